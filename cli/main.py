@@ -1,0 +1,158 @@
+"""The `soccer` command: matches, models and scenes (and, as they land, batches,
+optimization jobs and rendering)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from cli import teams
+
+EXIT_USAGE = 2
+
+
+class UsageError(Exception):
+    """A bad command-line value; printed as one line, exit code 2."""
+
+
+def _team_sizes(value: str) -> int:
+    try:
+        n = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"team size must be a whole number, not {value!r}") from None
+    if not 1 <= n <= 11:
+        raise argparse.ArgumentTypeError(f"team size must be 1 to 11, not {n}")
+    return n
+
+
+def _positive(value: str) -> float:
+    try:
+        v = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, not {value!r}") from None
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"must be positive, not {value}")
+    return v
+
+
+def _robot_type(value: str) -> int:
+    if value not in {"0", "1", "2", "3", "4"}:
+        raise argparse.ArgumentTypeError(f"robot type must be 0, 1, 2, 3 or 4, not {value!r}")
+    return int(value)
+
+
+def _types(value: str) -> tuple[int, ...]:
+    out = tuple(_robot_type(v.strip()) for v in value.split(",") if v.strip())
+    if not 1 <= len(out) <= 11:
+        raise argparse.ArgumentTypeError(f"a line-up has 1 to 11 robot types, got {len(out)}")
+    return out
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="soccer", description=__doc__)
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    m = sub.add_parser("match", help="play one headless match and print the score")
+    m.add_argument("--home", default="posture", help=f"left team ({', '.join(teams.names())})")
+    m.add_argument("--away", default="posture", help="right team")
+    m.add_argument("--half-time", type=_positive, default=300.0, metavar="SECONDS",
+                   help="game seconds per half (default 300)")
+    m.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    m.add_argument("--home-size", type=_team_sizes, default=11, metavar="N")
+    m.add_argument("--away-size", type=_team_sizes, default=11, metavar="N")
+    m.add_argument("--out", type=Path, help="write the result as JSON here")
+    m.add_argument("--log", type=Path, help="write the match log (.npz) here")
+    m.add_argument("--quiet", action="store_true", help="no progress bar")
+
+    mo = sub.add_parser("model", help="write one robot's MJCF")
+    mo.add_argument("--type", type=_robot_type, default=0, dest="robot_type")
+    mo.add_argument("--out", type=Path, required=True)
+
+    sc = sub.add_parser("scene", help="write a whole line-up's MJCF")
+    sc.add_argument("--home", type=_team_sizes, default=11, metavar="N",
+                    help="players of the left team (1..11)")
+    sc.add_argument("--away", type=_team_sizes, default=11, metavar="N")
+    sc.add_argument("--home-types", type=_types, metavar="T,T,...",
+                    help="robot types of the left team, comma separated (overrides --home)")
+    sc.add_argument("--away-types", type=_types, metavar="T,T,...")
+    sc.add_argument("--out", type=Path, required=True)
+    return ap
+
+
+def _write_text(path: Path, text: str) -> None:
+    import os
+    import tempfile
+
+    from server.match import write_json  # noqa: F401  (keeps one atomic-write idiom)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    with os.fdopen(fd, "w") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
+
+
+def cmd_match(args: argparse.Namespace) -> int:
+    from models.scene import Lineup
+    from server.log import write_log
+    from server.match import Match, write_json
+
+    left = teams.factory(args.home)
+    right = teams.factory(args.away)
+    lineup = Lineup.default(args.home_size, args.away_size)
+    match = Match(left, right, lineup, half_time=args.half_time, seed=args.seed,
+                  record=args.log is not None, team_names=(args.home, args.away))
+    result = match.run(progress=not args.quiet).to_dict()
+    if args.out:
+        write_json(result, args.out)
+    if args.log:
+        write_log(match.match_log(), args.log)
+    s = result["stats"]
+    print(f"{args.home} {result['score']['L']} : {result['score']['R']} {args.away}"
+          f"   ({result['game_time']:.0f} game s in {result['wall_time']:.0f} s,"
+          f" {result['real_time_factor']:.1f}x real time, seed {args.seed})")
+    print(f"{'':12s}{'possession':>12s}{'touches':>10s}{'falls':>8s}")
+    for team, name in (("L", args.home), ("R", args.away)):
+        print(f"{name[:12]:12s}{100 * s[team]['possession_share']:11.0f}%"
+              f"{s[team]['ball_touches']:10d}{s[team]['falls']:8d}")
+    goals = [e for e in result["events"] if e["kind"] == "goal"]
+    for e in goals:
+        who = f" by {e['team']}{e['player']}" if e["player"] else ""
+        print(f"  goal {e['time']:7.2f} s  {e['team']}{who}")
+    return 0
+
+
+def cmd_model(args: argparse.Namespace) -> int:
+    from models.robot import robot_mjcf
+    _write_text(args.out, robot_mjcf(args.robot_type))
+    print(f"wrote robot type {args.robot_type} to {args.out}")
+    return 0
+
+
+def cmd_scene(args: argparse.Namespace) -> int:
+    from models.scene import Lineup, scene_mjcf
+    left = args.home_types or Lineup.default(args.home, 1).left
+    right = args.away_types or Lineup.default(1, args.away).right
+    lineup = Lineup(tuple(left), tuple(right))
+    _write_text(args.out, scene_mjcf(lineup))
+    print(f"wrote a {len(left)} vs {len(right)} scene to {args.out}")
+    return 0
+
+
+COMMANDS = {"match": cmd_match, "model": cmd_model, "scene": cmd_scene}
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return COMMANDS[args.command](args)
+    except (UsageError, teams.UnknownTeam, ValueError) as exc:
+        print(f"soccer {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

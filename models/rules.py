@@ -1,0 +1,74 @@
+"""Rule and timing constants of the RoboCup 3D simulation league (SI units)."""
+
+from __future__ import annotations
+
+import math
+from enum import Enum
+
+CYCLE = 0.02  # s, one agent cycle
+PHYSICS_DT = 0.005  # s, MuJoCo timestep (4 substeps a cycle)
+HALF_TIME = 300.0  # s of game time per half
+GOAL_PAUSE = 3.0  # s in Goal_* before the kickoff
+BEFORE_KICKOFF_TIME = 1.0  # s the match runner leaves for beaming before it kicks off
+DROP_BALL_TIME = 15.0  # s without a touch at a restart before the ball is dropped
+FREE_KICK_DISTANCE = 2.0  # m opponents are kept from the ball at restarts
+GOAL_KICK_DISTANCE = 1.0  # m opponents are kept outside the penalty area at a goal kick
+BEAM_NOISE_XY = 0.05  # m, uniform +-
+BEAM_NOISE_ANGLE = math.radians(10.0)  # rad, uniform +-
+MAX_IN_PENALTY_AREA = 3  # defenders allowed in their own penalty area
+FALLEN_REPOSITION_TIME = 15.0  # s down before the referee repositions a player
+GOALIE_FALLEN_REPOSITION_TIME = 30.0
+NOT_STANDING_REPOSITION_TIME = 30.0
+GOALIE_NOT_STANDING_REPOSITION_TIME = 60.0
+
+VISION_PERIOD = 3  # cycles between vision percepts
+VIEW_CONE = math.radians(120.0)  # full horizontal and vertical aperture
+VISION_SIGMA_DIST = 0.0965  # percent of the distance, one sigma
+VISION_SIGMA_HORIZONTAL = math.radians(0.1480)
+VISION_SIGMA_VERTICAL = math.radians(0.1225)
+VISION_CALIBRATION_ERROR = 0.005  # m, uniform +- per axis, fixed per robot
+
+SAY_MAX_LENGTH = 20
+SAY_ALPHABET = frozenset(chr(c) for c in range(0x21, 0x7F)) - {"(", ")"}
+HEAR_DISTANCE = 50.0  # m
+HEAR_PERIOD = 2  # cycles: a player hears one message per team in that window
+
+TEAM_SIZE = 11
+
+
+class PlayMode(str, Enum):
+    """The league's play modes; values are the names SimSpark sends."""
+
+    BEFORE_KICK_OFF = "BeforeKickOff"
+    KICK_OFF_LEFT = "KickOff_Left"
+    KICK_OFF_RIGHT = "KickOff_Right"
+    PLAY_ON = "PlayOn"
+    KICK_IN_LEFT = "KickIn_Left"
+    KICK_IN_RIGHT = "KickIn_Right"
+    CORNER_KICK_LEFT = "corner_kick_left"
+    CORNER_KICK_RIGHT = "corner_kick_right"
+    GOAL_KICK_LEFT = "goal_kick_left"
+    GOAL_KICK_RIGHT = "goal_kick_right"
+    GOAL_LEFT = "Goal_Left"
+    GOAL_RIGHT = "Goal_Right"
+    GAME_OVER = "GameOver"
+
+    @property
+    def team(self) -> str | None:
+        """'L' or 'R' for a mode that belongs to one team, else None."""
+        v = self.value.lower()
+        if v.endswith("_left"):
+            return "L"
+        if v.endswith("_right"):
+            return "R"
+        return None
+
+
+PLAY_MODES = tuple(PlayMode)
+
+
+def restart(kind: str, team: str) -> PlayMode:
+    """The play mode of a restart kind ('kick_off', 'kick_in', 'corner_kick',
+    'goal_kick', 'goal') for team 'L' or 'R'."""
+    side = "LEFT" if team == "L" else "RIGHT"
+    return PlayMode[f"{kind.upper()}_{side}"]

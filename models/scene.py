@@ -1,0 +1,88 @@
+"""A whole match scene: the field, both goals, the ball and any line-up.
+
+Robots are named by team side and uniform number: bodies of the left team's
+number 3 are `L3/torso`, `L3/lfoot`, ... Collision filtering keeps only the
+contacts that matter (robot-floor, robot-ball, robot-robot, robot-goal,
+ball-floor, ball-goal): every robot gets a bit of its own, so its parts never
+touch each other but touch every other robot.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+
+from models import field, nao, robot
+from models.rules import PHYSICS_DT, TEAM_SIZE
+
+FLOOR_BIT = 1 << 0
+BALL_BIT = 1 << 1
+GOAL_BIT = 1 << 2
+FIRST_ROBOT_BIT = 3
+ALL_ROBOTS = sum(1 << (FIRST_ROBOT_BIT + i) for i in range(2 * TEAM_SIZE))
+
+
+@dataclass(frozen=True)
+class Lineup:
+    """Robot types of each team, index i is uniform number i + 1."""
+
+    left: tuple[int, ...]
+    right: tuple[int, ...]
+
+    def __post_init__(self) -> None:
+        for team, types in (("left", self.left), ("right", self.right)):
+            if not 1 <= len(types) <= TEAM_SIZE:
+                raise ValueError(f"the {team} team has {len(types)} players; it needs 1 to 11")
+            for t in types:
+                nao.robot_type(t)
+
+    @classmethod
+    def default(cls, n_left: int = TEAM_SIZE, n_right: int = TEAM_SIZE) -> Lineup:
+        """A legal heterogeneous line-up: types 0-4 in turn, goalie type 0."""
+        def team(n: int) -> tuple[int, ...]:
+            return tuple(i % 5 for i in range(n))
+        return cls(team(n_left), team(n_right))
+
+    def players(self) -> list[tuple[str, int, int]]:
+        """(side, uniform number, type) of every player, left team first."""
+        return [("L", i + 1, t) for i, t in enumerate(self.left)] + [
+            ("R", i + 1, t) for i, t in enumerate(self.right)]
+
+
+def prefix(side: str, unum: int) -> str:
+    """Name prefix of a player's bodies, joints and sensors."""
+    return f"{side}{unum}/"
+
+
+def start_pose(side: str, unum: int, robot_type: int) -> tuple[float, float, float, float]:
+    """(x, y, z, yaw) off the field by the own half's touch line, before anyone beams."""
+    s = -1.0 if side == "L" else 1.0
+    x = s * (1.0 + 1.2 * (unum - 1))
+    return (x, -field.HALF_WIDTH - 0.6, nao.standing_height(robot_type),
+            0.0 if side == "L" else 3.141592653589793)
+
+
+def scene_mjcf(lineup: Lineup, timestep: float = PHYSICS_DT) -> str:
+    """MJCF of the field, ball and every robot of `lineup`."""
+    root = ET.Element("mujoco", model="soccer")
+    robot.mjcf_options(root, timestep)
+    asset = ET.SubElement(root, "asset")
+    ET.SubElement(asset, "texture", name="sky", type="skybox", builtin="gradient",
+                  rgb1="0.5 0.7 0.9", rgb2="0.1 0.1 0.2", width="64", height="64")
+    world = ET.SubElement(root, "worldbody")
+    ET.SubElement(world, "light", pos="0 0 20", dir="0 0 -1", directional="true",
+                  castshadow="false")
+    field.field_xml(world, floor_bits=(FLOOR_BIT, 0), goal_bits=(GOAL_BIT, 0))
+    field.ball_xml(world, contype=BALL_BIT, conaffinity=FLOOR_BIT | GOAL_BIT)
+    actuators = ET.SubElement(root, "actuator")
+    sensors = ET.SubElement(root, "sensor")
+    for i, (side, unum, t) in enumerate(lineup.players()):
+        bit = 1 << (FIRST_ROBOT_BIT + i)
+        x, y, z, yaw = start_pose(side, unum, t)
+        parts = robot.robot_xml(t, prefix(side, unum), pos=(x, y, z), yaw=yaw, contype=bit,
+                                conaffinity=FLOOR_BIT | BALL_BIT | GOAL_BIT | (ALL_ROBOTS & ~bit))
+        world.append(parts.body)
+        actuators.extend(parts.actuators)
+        sensors.extend(parts.sensors)
+    ET.indent(root)
+    return ET.tostring(root, encoding="unicode")

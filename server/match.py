@@ -1,0 +1,285 @@
+"""The 20 ms match loop: percepts out, actions in, physics, referee.
+
+Agents are plain objects with `act(percept) -> Action`, made by a team's
+factory `(side, unum, robot_type, seed) -> agent`. The loop gives each agent
+only its own `Percept`; nothing else of the world reaches it.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import os
+import sys
+import tempfile
+import time as wallclock
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
+
+from models import nao
+from models.messages import Action, HeardMessage, Percept
+from models.rules import (
+    BEAM_NOISE_ANGLE,
+    BEAM_NOISE_XY,
+    HALF_TIME,
+    PLAY_MODES,
+    VISION_PERIOD,
+    PlayMode,
+)
+from models.scene import Lineup
+from server.hearing import Hearing, say_error
+from server.log import LogRecorder, MatchLog
+from server.referee import Referee
+from server.sensors import Proprioception
+from server.vision import VisionSensor
+from server.world import World
+
+log = logging.getLogger(__name__)
+
+
+class Agent(Protocol):
+    def act(self, percept: Percept) -> Action: ...
+
+
+AgentFactory = Callable[[str, int, int, int], Agent]
+
+
+@dataclass
+class Timing:
+    """Wall time spent per part of the loop (s)."""
+
+    physics: float = 0.0
+    sensors: float = 0.0
+    effectors: float = 0.0
+    referee: float = 0.0
+    agents: float = 0.0
+    log: float = 0.0
+
+    def as_dict(self) -> dict[str, float]:
+        return {k: round(v, 3) for k, v in self.__dict__.items()}
+
+
+@dataclass
+class MatchResult:
+    score: dict[str, int]
+    events: list[dict]
+    stats: dict[str, dict]
+    lineup: dict[str, list[int]]
+    teams: dict[str, str]
+    seed: int
+    half_time: float
+    game_time: float
+    wall_time: float
+    timing: dict[str, float] = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        return {
+            "score": self.score, "goal_difference": self.score["L"] - self.score["R"],
+            "teams": self.teams, "lineup": self.lineup, "seed": self.seed,
+            "half_time": self.half_time, "game_time": round(self.game_time, 3),
+            "wall_time": round(self.wall_time, 3),
+            "real_time_factor": round(self.game_time / max(self.wall_time, 1e-9), 2),
+            "stats": self.stats, "timing": self.timing, "events": self.events,
+        }
+
+
+def write_json(obj: dict, path: str | os.PathLike) -> None:
+    """Write JSON atomically (a temporary file renamed over the target)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    with os.fdopen(fd, "w") as fh:
+        json.dump(obj, fh, indent=2)
+        fh.write("\n")
+    os.replace(tmp, path)
+
+
+class Match:
+    """One match between two teams of agents."""
+
+    def __init__(self, left: AgentFactory, right: AgentFactory, lineup: Lineup | None = None,
+                 half_time: float = HALF_TIME, seed: int = 0, record: bool = False,
+                 team_names: tuple[str, str] = ("left", "right")) -> None:
+        if half_time <= 0:
+            raise ValueError(f"half time must be positive, got {half_time}")
+        self.lineup = lineup or Lineup.default()
+        self.seed = seed
+        self.half_time = half_time
+        self.team_names = team_names
+        seeds = np.random.SeedSequence(seed).spawn(4)
+        rng_vision, rng_hear, self.rng_beam, rng_agents = (np.random.default_rng(s) for s in seeds)
+        self.world = World(self.lineup)
+        self.referee = Referee(self.world, half_time=half_time)
+        self.proprio = Proprioception(self.world)
+        self.vision = VisionSensor(self.world, rng_vision)
+        self.hearing = Hearing(self.world.side_of, rng_hear)
+        agent_seeds = rng_agents.integers(0, 2**31 - 1, len(self.world.players))
+        self.agents: list[Agent] = []
+        for p, s in zip(self.world.players, agent_seeds):
+            factory = left if p.side == "L" else right
+            self.agents.append(factory(p.side, p.unum, p.robot_type, int(s)))
+        self.n_joints = [len(p.joint_qpos) for p in self.world.players]
+        self.max_speed = [np.array([j.max_speed for j in nao.joints(p.robot_type)])
+                          for p in self.world.players]
+        self._max_speed = np.concatenate(self.max_speed)
+        self._act_index = np.concatenate([p.actuators for p in self.world.players])
+        self.cycle = 0
+        self.heard: dict[int, list[HeardMessage]] = {}
+        self.warnings: dict[int, list[str]] = {}
+        self.targets = np.full((len(self.world.players), 2), np.nan)
+        self.timing = Timing()
+        self.recorder = (LogRecorder(self.world.xml, [p.name for p in self.world.players])
+                         if record else None)
+        self._mode_index = {m: k for k, m in enumerate(PLAY_MODES)}
+
+    # ------------------------------------------------------------------ one cycle
+
+    def percepts(self) -> list[Percept]:
+        """Every player's percept for the current cycle."""
+        w, ref = self.world, self.referee
+        vision = self.vision.see_all() if self.cycle % VISION_PERIOD == 0 else {}
+        out = []
+        for i, (q, gyro, acc, soles) in enumerate(self.proprio.read()):
+            p = w.players[i]
+            out.append(Percept(
+                time=round(w.time, 6), game_time=round(ref.game_time, 6),
+                play_mode=ref.mode.value, score_left=ref.score["L"], score_right=ref.score["R"],
+                side=p.side, unum=p.unum, robot_type=p.robot_type, joints=q, gyro=gyro,
+                accel=acc, foot_forces=soles, vision=vision.get(i),
+                heard=tuple(self.heard.get(i, ())), warnings=tuple(self.warnings.get(i, ())),
+            ))
+        return out
+
+    def step(self) -> None:
+        """Run one 20 ms cycle."""
+        w, ref, t = self.world, self.referee, self.timing
+        t0 = wallclock.perf_counter()
+        percepts = self.percepts()
+        t1 = wallclock.perf_counter()
+        actions = [agent.act(pc) for agent, pc in zip(self.agents, percepts)]
+        t2 = wallclock.perf_counter()
+        ctrl, said, warnings = self._apply(actions)
+        t3 = wallclock.perf_counter()
+        touches = w.step(ctrl)
+        t4 = wallclock.perf_counter()
+        ref.update(touches)
+        t5 = wallclock.perf_counter()
+        self.heard = self.hearing.route(self.cycle, w.time, said, w.torso_positions(),
+                                        w.headings()) if said else {}
+        self.warnings = warnings
+        self.cycle += 1
+        t6 = wallclock.perf_counter()
+        if self.recorder is not None:
+            self.recorder.record(w.time, ref.game_time, w.data.qpos, self._mode_index[ref.mode],
+                                 (ref.score["L"], ref.score["R"]), self.targets)
+        t7 = wallclock.perf_counter()
+        t.sensors += (t1 - t0) + (t6 - t5)
+        t.agents += t2 - t1
+        t.effectors += t3 - t2
+        t.physics += t4 - t3
+        t.referee += t5 - t4
+        t.log += t7 - t6
+
+    def _apply(self, actions: list[Action]) -> tuple[np.ndarray, dict[int, str], dict[int, list[str]]]:
+        """Effectors: joint velocities, says and beams. Bad actions are refused per agent."""
+        w = self.world
+        parts = []
+        said: dict[int, str] = {}
+        warnings: dict[int, list[str]] = {}
+        beam_ok = self.referee.beam_allowed()
+        for i, a in enumerate(actions):
+            n = self.n_joints[i]
+            v = np.asarray(getattr(a, "joint_velocities", None), dtype=float)
+            if v.shape != (n,) or not np.all(np.isfinite(v)):
+                warnings.setdefault(i, []).append(
+                    f"joint_velocities must be {n} finite numbers; got shape {v.shape}")
+                v = np.zeros(n)
+            parts.append(v)
+            if a.say is not None:
+                err = say_error(a.say)
+                if err is None:
+                    said[i] = a.say
+                else:
+                    log.warning("%s: %s", w.players[i].name, err)
+                    warnings.setdefault(i, []).append(err)
+            if a.beam is not None:
+                if beam_ok:
+                    self._beam(i, a.beam)
+                else:
+                    warnings.setdefault(i, []).append(f"beam refused in {self.referee.mode.value}")
+            target = a.annotations.get("target") if a.annotations else None
+            self.targets[i] = target if target is not None else (np.nan, np.nan)
+        ctrl = np.zeros(w.model.nu)
+        ctrl[self._act_index] = np.clip(np.concatenate(parts), -self._max_speed, self._max_speed)
+        return ctrl, said, warnings
+
+    def _beam(self, i: int, beam: tuple[float, float, float]) -> None:
+        """Beam player i to (x, y, heading) of its team frame, with the league's noise."""
+        w = self.world
+        x, y, th = (float(b) for b in beam)
+        if not all(math.isfinite(b) for b in (x, y, th)):
+            return
+        if w.players[i].side == "R":
+            x, y, th = -x, -y, th + math.pi
+        x += self.rng_beam.uniform(-BEAM_NOISE_XY, BEAM_NOISE_XY)
+        y += self.rng_beam.uniform(-BEAM_NOISE_XY, BEAM_NOISE_XY)
+        th += self.rng_beam.uniform(-BEAM_NOISE_ANGLE, BEAM_NOISE_ANGLE)
+        x = float(np.clip(x, -15.0, 15.0))
+        y = float(np.clip(y, -10.0, 10.0))
+        w.place_robot(i, x, y, th)
+        w.settle_height(i)
+
+    # -------------------------------------------------------------------- running
+
+    def run(self, progress: bool = False, max_cycles: int | None = None) -> MatchResult:
+        """Play until GameOver (or max_cycles) and return the result."""
+        start = wallclock.perf_counter()
+        total = 2 * self.half_time
+        bar = None
+        if progress:
+            from tqdm import tqdm
+            bar = tqdm(total=round(total), unit="game s", file=sys.stderr, dynamic_ncols=True,
+                       bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} game s [{elapsed}<{remaining}{postfix}]")
+        shown = 0.0
+        while self.referee.mode != PlayMode.GAME_OVER:
+            if max_cycles is not None and self.cycle >= max_cycles:
+                break
+            self.step()
+            if bar is not None and (self.cycle % 50 == 0 or self.referee.mode == PlayMode.GAME_OVER):
+                g = self.referee.game_time
+                bar.update(g - shown)
+                shown = g
+                bar.set_postfix_str(f"{self.referee.score['L']}:{self.referee.score['R']}",
+                                    refresh=False)
+        if bar is not None:
+            bar.close()
+        return self.result(wallclock.perf_counter() - start)
+
+    def result(self, wall_time: float) -> MatchResult:
+        ref = self.referee
+        stats = {}
+        total_possession = sum(ref.possession.values()) or 1.0
+        for team in ("L", "R"):
+            stats[team] = {
+                "possession_time": round(ref.possession[team], 2),
+                "possession_share": round(ref.possession[team] / total_possession, 3),
+                "ball_touches": ref.touches[team],
+                "falls": ref.falls[team],
+            }
+        return MatchResult(
+            score=dict(ref.score), events=[e.to_dict() for e in ref.events], stats=stats,
+            lineup={"L": list(self.lineup.left), "R": list(self.lineup.right)},
+            teams={"L": self.team_names[0], "R": self.team_names[1]}, seed=self.seed,
+            half_time=self.half_time, game_time=ref.game_time, wall_time=wall_time,
+            timing=self.timing.as_dict(),
+        )
+
+    def match_log(self) -> MatchLog:
+        if self.recorder is None:
+            raise RuntimeError("this match was not recorded (record=False)")
+        return self.recorder.finish([e.to_dict() for e in self.referee.events])

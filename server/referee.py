@@ -1,0 +1,309 @@
+"""The league's referee (rcssserver3d's SoccerRuleAspect), on ground truth.
+
+Every decision is an `Event`. The referee moves things only as the rules let
+it: the ball to its restart spot, players out of places they may not be (too
+close at restarts, a fourth defender in the penalty area, a player down too
+long). The left team ('L') attacks +x.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from models import field
+from models.rules import (
+    BEFORE_KICKOFF_TIME,
+    CYCLE,
+    DROP_BALL_TIME,
+    FALLEN_REPOSITION_TIME,
+    FREE_KICK_DISTANCE,
+    GOAL_KICK_DISTANCE,
+    GOAL_PAUSE,
+    GOALIE_FALLEN_REPOSITION_TIME,
+    GOALIE_NOT_STANDING_REPOSITION_TIME,
+    HALF_TIME,
+    MAX_IN_PENALTY_AREA,
+    NOT_STANDING_REPOSITION_TIME,
+    PlayMode,
+    restart,
+)
+from server.world import World
+
+PM = PlayMode
+RESTARTS = {PM.KICK_OFF_LEFT, PM.KICK_OFF_RIGHT, PM.KICK_IN_LEFT, PM.KICK_IN_RIGHT,
+            PM.CORNER_KICK_LEFT, PM.CORNER_KICK_RIGHT, PM.GOAL_KICK_LEFT, PM.GOAL_KICK_RIGHT}
+LIVE = RESTARTS | {PM.PLAY_ON}
+GOALIE = 1  # uniform number of the goalie
+
+# Torso tilt thresholds on the z component of the torso's up axis.
+DOWN_UP_Z = 0.5  # below: lying (down)
+UP_AGAIN_Z = 0.8  # above: up again (hysteresis for counting falls)
+STANDING_UP_Z = 0.7  # above, with the torso high enough: standing
+
+
+def other(team: str) -> str:
+    return "R" if team == "L" else "L"
+
+
+@dataclass
+class Event:
+    """One referee decision. time is game time (s); team 'L'/'R'; player a uniform number."""
+
+    time: float
+    kind: str
+    team: str | None = None
+    player: int | None = None
+    detail: str = ""
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+class Referee:
+    """Play modes, score, restarts and the league's player rules."""
+
+    def __init__(self, world: World, half_time: float = HALF_TIME, first_kickoff: str = "L") -> None:
+        self.world = world
+        self.half_time = half_time
+        self.first_kickoff = first_kickoff
+        n = len(world.players)
+        self.mode = PM.BEFORE_KICK_OFF
+        self.mode_since = 0.0  # server time the mode began
+        self.game_time = 0.0
+        self.half = 1
+        self.score = {"L": 0, "R": 0}
+        self.events: list[Event] = []
+        self.last_touch: int | None = None
+        self.kickoff_taker: int | None = None
+        self.kickoff_pending = False  # the kickoff's second touch has not happened yet
+        self.next_kickoff = first_kickoff
+        self.down_since = np.full(n, np.nan)
+        self.unsteady_since = np.full(n, np.nan)
+        self.fallen = np.zeros(n, dtype=bool)
+        self.area_since = np.full(n, np.nan)
+        self.possession = {"L": 0.0, "R": 0.0}
+        self.touches = {"L": 0, "R": 0}
+        self.falls = {"L": 0, "R": 0}
+        self.is_goalie = world.unum_of == GOALIE
+
+    # ------------------------------------------------------------------ helpers
+
+    def _event(self, kind: str, team: str | None = None, player: int | None = None,
+               detail: str = "") -> None:
+        self.events.append(Event(round(self.game_time, 3), kind, team, player, detail))
+
+    def _set_mode(self, mode: PlayMode, detail: str = "") -> None:
+        self.mode = mode
+        self.mode_since = self.world.time
+        self._event("play_mode", mode.team, None, mode.value + (f": {detail}" if detail else ""))
+
+    def beam_allowed(self) -> bool:
+        """Players may beam before kickoff and while a goal is celebrated."""
+        return self.mode in (PM.BEFORE_KICK_OFF, PM.GOAL_LEFT, PM.GOAL_RIGHT)
+
+    def _unum(self, i: int | None) -> int | None:
+        return None if i is None else int(self.world.unum_of[i])
+
+    def _team(self, i: int) -> str:
+        return str(self.world.side_of[i])
+
+    def _move(self, i: int, x: float, y: float, why: str) -> None:
+        w = self.world
+        x = float(np.clip(x, -field.HALF_LENGTH, field.HALF_LENGTH))
+        y = float(np.clip(y, -field.HALF_WIDTH - 0.5, field.HALF_WIDTH + 0.5))
+        heading = 0.0 if self._team(i) == "L" else math.pi
+        w.place_robot(i, x, y, heading)
+        w.settle_height(i)
+        self.down_since[i] = np.nan
+        self.unsteady_since[i] = np.nan
+        self._event("reposition", self._team(i), self._unum(i), why)
+
+    def _kickoff(self, team: str) -> None:
+        self.world.place_ball((0.0, 0.0))
+        self.kickoff_taker = None
+        self.kickoff_pending = True
+        self._set_mode(restart("kick_off", team))
+
+    # --------------------------------------------------------------- main update
+
+    def update(self, touches: list[int]) -> None:
+        """Apply the rules after one physics cycle; `touches` are the players that
+        started touching the ball during it, in order."""
+        if self.mode == PM.GAME_OVER:
+            return
+        w = self.world
+        if self.mode != PM.BEFORE_KICK_OFF:
+            self.game_time += CYCLE
+        for i in touches:
+            self._touch(i)
+        if self.mode in LIVE:
+            self._check_ball()
+        elapsed = w.time - self.mode_since
+        if self.mode == PM.BEFORE_KICK_OFF and elapsed >= BEFORE_KICKOFF_TIME - 1e-9:
+            self._kickoff(self.next_kickoff)
+        elif self.mode in (PM.GOAL_LEFT, PM.GOAL_RIGHT) and elapsed >= GOAL_PAUSE - 1e-9:
+            self._kickoff(other(self.mode.team))
+        elif self.mode in RESTARTS and elapsed >= DROP_BALL_TIME - 1e-9:
+            self._event("drop_ball", self.mode.team, None, f"no touch for {DROP_BALL_TIME:g} s")
+            self._set_mode(PM.PLAY_ON)
+        if self.half == 1 and self.game_time >= self.half_time - 1e-9:
+            self.half = 2
+            self._event("half_time")
+            self.next_kickoff = other(self.first_kickoff)
+            w.place_ball((0.0, 0.0))
+            self._set_mode(PM.BEFORE_KICK_OFF)
+        elif self.half == 2 and self.game_time >= 2 * self.half_time - 1e-9:
+            self._event("game_over", None, None, f"{self.score['L']}:{self.score['R']}")
+            self._set_mode(PM.GAME_OVER)
+            return
+        if self.mode in RESTARTS:
+            self._keep_away()
+        if self.mode == PM.PLAY_ON:
+            self._illegal_defense()
+            if self.last_touch is not None:
+                self.possession[self._team(self.last_touch)] += CYCLE
+        self._fallen()
+
+    def _touch(self, i: int) -> None:
+        team = self._team(i)
+        self.touches[team] += 1
+        self.last_touch = i
+        if self.kickoff_pending:
+            if self.kickoff_taker is None:
+                self.kickoff_taker = i
+            elif i != self.kickoff_taker:
+                self.kickoff_pending = False
+        if self.mode in RESTARTS:
+            self._set_mode(PM.PLAY_ON, f"touched by {team}{self._unum(i)}")
+
+    def _check_ball(self) -> None:
+        w = self.world
+        x, y, z = w.ball_position()
+        r = field.BALL_RADIUS
+        last = self.last_touch
+        last_team = self._team(last) if last is not None else None
+        if abs(x) > field.HALF_LENGTH + r:
+            sx = 1.0 if x > 0 else -1.0
+            attackers = "L" if x > 0 else "R"
+            defenders = other(attackers)
+            if abs(y) < field.GOAL_WIDTH / 2 and z < field.GOAL_HEIGHT:
+                if self.kickoff_pending:
+                    self._event("no_goal", attackers, self._unum(last),
+                                "the kickoff was not touched by a second player")
+                    self._goal_kick(defenders, sx)
+                    return
+                self.score[attackers] += 1
+                self._event("goal", attackers, self._unum(last) if last_team == attackers else None,
+                            f"{self.score['L']}:{self.score['R']}"
+                            + ("" if last_team == attackers else " (own goal)"))
+                self.next_kickoff = defenders
+                w.place_ball((sx * (field.HALF_LENGTH + 0.3), 0.0))
+                self._set_mode(restart("goal", attackers))
+                return
+            if last_team == defenders:
+                self._event("out", defenders, self._unum(last), "over the end line")
+                w.place_ball((sx * field.HALF_LENGTH, math.copysign(field.HALF_WIDTH, y)))
+                self._set_mode(restart("corner_kick", attackers))
+            else:
+                self._event("out", last_team, self._unum(last), "over the end line")
+                self._goal_kick(defenders, sx)
+        elif abs(y) > field.HALF_WIDTH + r:
+            team = other(last_team) if last_team else ("R" if x < 0 else "L")
+            self._event("out", last_team, self._unum(last), "over the side line")
+            w.place_ball((float(np.clip(x, -field.HALF_LENGTH, field.HALF_LENGTH)),
+                          math.copysign(field.HALF_WIDTH, y)))
+            self._set_mode(restart("kick_in", team))
+
+    def _goal_kick(self, team: str, sx: float) -> None:
+        self.kickoff_pending = False
+        self.world.place_ball((sx * (field.HALF_LENGTH - GOAL_KICK_DISTANCE), 0.0))
+        self._set_mode(restart("goal_kick", team))
+
+    # ------------------------------------------------------------ player rules
+
+    def _keep_away(self) -> None:
+        """At restarts, keep the other team FREE_KICK_DISTANCE from the ball (out of
+        the penalty area at a goal kick; in its own half, outside the center
+        circle, at a kickoff)."""
+        w = self.world
+        team = self.mode.team
+        ball = w.ball_position()[:2]
+        pos = w.torso_positions()[:, :2]
+        kickoff = self.mode in (PM.KICK_OFF_LEFT, PM.KICK_OFF_RIGHT)
+        for i in range(len(w.players)):
+            side = self._team(i)
+            own = -1.0 if side == "L" else 1.0  # sign of x in the own half
+            x, y = pos[i]
+            if kickoff and x * own < 0:
+                self._move(i, own * 0.5, y, "in the opponents' half at kickoff")
+                x = own * 0.5
+            if side == team:
+                continue
+            if self.mode in (PM.GOAL_KICK_LEFT, PM.GOAL_KICK_RIGHT):
+                gx = -field.HALF_LENGTH if team == "L" else field.HALF_LENGTH
+                front = abs(gx) - field.PENALTY_DEPTH
+                if abs(x) > front and abs(y) < field.PENALTY_WIDTH / 2 and x * gx > 0:
+                    self._move(i, math.copysign(front - GOAL_KICK_DISTANCE, gx), y,
+                               "in the penalty area at a goal kick")
+                continue
+            d = np.hypot(x - ball[0], y - ball[1])
+            if d < FREE_KICK_DISTANCE:
+                u = (np.array([x, y]) - ball) / d if d > 1e-6 else np.array([own, 0.0])
+                target = ball + u * (FREE_KICK_DISTANCE + 0.3)
+                if kickoff:
+                    target[0] = own * max(abs(target[0]), 0.5)
+                self._move(i, target[0], target[1], "too close to the ball at a restart")
+
+    def _illegal_defense(self) -> None:
+        w = self.world
+        pos = w.torso_positions()
+        inside = (np.abs(pos[:, 1]) < field.PENALTY_WIDTH / 2) & (
+            np.abs(pos[:, 0]) > field.HALF_LENGTH - field.PENALTY_DEPTH) & (
+            np.abs(pos[:, 0]) <= field.HALF_LENGTH)
+        own = np.where(w.side_of == "L", pos[:, 0] < 0, pos[:, 0] > 0)
+        inside &= own
+        now = w.time
+        self.area_since = np.where(inside, np.where(np.isnan(self.area_since), now,
+                                                    self.area_since), np.nan)
+        for team in ("L", "R"):
+            idx = np.nonzero(inside & (w.side_of == team))[0]
+            if len(idx) <= MAX_IN_PENALTY_AREA:
+                continue
+            cand = [i for i in idx if not self.is_goalie[i]]
+            i = max(cand, key=lambda k: (self.area_since[k], k))
+            sx = -1.0 if team == "L" else 1.0
+            self._event("illegal_defense", team, self._unum(i),
+                        f"{len(idx)} players in the own penalty area")
+            self._move(i, sx * (field.HALF_LENGTH - field.PENALTY_DEPTH - 0.5), pos[i, 1],
+                       "illegal defense")
+            self.area_since[i] = np.nan
+
+    def _fallen(self) -> None:
+        w = self.world
+        up = w.torso_up()
+        z = w.torso_positions()[:, 2]
+        now = w.time
+        down = up < DOWN_UP_Z
+        standing = (up > STANDING_UP_Z) & (z > 0.6 * w.heights)
+        new_falls = down & ~self.fallen
+        for i in np.nonzero(new_falls)[0]:
+            self.falls[self._team(i)] += 1
+        self.fallen = np.where(down, True, np.where(up > UP_AGAIN_Z, False, self.fallen))
+        self.down_since = np.where(down, np.where(np.isnan(self.down_since), now,
+                                                  self.down_since), np.nan)
+        self.unsteady_since = np.where(~standing, np.where(np.isnan(self.unsteady_since), now,
+                                                           self.unsteady_since), np.nan)
+        if self.mode not in LIVE:
+            return
+        down_limit = np.where(self.is_goalie, GOALIE_FALLEN_REPOSITION_TIME, FALLEN_REPOSITION_TIME)
+        unsteady_limit = np.where(self.is_goalie, GOALIE_NOT_STANDING_REPOSITION_TIME,
+                                  NOT_STANDING_REPOSITION_TIME)
+        late = ((now - self.down_since) >= down_limit) | ((now - self.unsteady_since) >= unsteady_limit)
+        pos = w.torso_positions()
+        for i in np.nonzero(late)[0]:
+            self.fallen[i] = False
+            y = math.copysign(field.HALF_WIDTH + 0.4, pos[i, 1] if pos[i, 1] != 0 else 1.0)
+            self._move(int(i), pos[i, 0], y, "down or not standing too long")
