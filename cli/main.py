@@ -49,9 +49,19 @@ def _types(value: str) -> tuple[int, ...]:
     return out
 
 
+COMMANDS = {}
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse that reports a bad option in one line (with a hint) and exits 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="soccer", description=__doc__)
-    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    ap = Parser(prog="soccer", description=__doc__)
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=Parser)
 
     m = sub.add_parser("match", help="play one headless match and print the score")
     m.add_argument("--home", default="posture", help=f"left team ({', '.join(teams.names())})")
@@ -77,7 +87,26 @@ def build_parser() -> argparse.ArgumentParser:
                     help="robot types of the left team, comma separated (overrides --home)")
     sc.add_argument("--away-types", type=_types, metavar="T,T,...")
     sc.add_argument("--out", type=Path, required=True)
+    for module in _plugins():
+        COMMANDS.update(module.register(sub))
     return ap
+
+
+# Subcommands that live beside the packages they drive (render, batch, optimize).
+# Each module has register(subparsers) -> {name: handler(args) -> exit code}.
+PLUGINS = ("cli.render_cmd", "cli.batch_cmd", "cli.optimize_cmd")
+
+
+def _plugins() -> list:
+    import importlib
+    out = []
+    for name in PLUGINS:
+        try:
+            out.append(importlib.import_module(name))
+        except ModuleNotFoundError as exc:
+            if exc.name != name:
+                raise
+    return out
 
 
 def _write_text(path: Path, text: str) -> None:
@@ -139,10 +168,10 @@ def cmd_scene(args: argparse.Namespace) -> int:
     return 0
 
 
-COMMANDS = {"match": cmd_match, "model": cmd_model, "scene": cmd_scene}
 
 
 def main(argv: list[str] | None = None) -> int:
+    COMMANDS.update(match=cmd_match, model=cmd_model, scene=cmd_scene)
     args = build_parser().parse_args(argv)
     try:
         return COMMANDS[args.command](args)

@@ -88,15 +88,24 @@ class MatchResult:
         }
 
 
-def write_json(obj: dict, path: str | os.PathLike) -> None:
-    """Write JSON atomically (a temporary file renamed over the target)."""
+def write_text(text: str, path: str | os.PathLike) -> None:
+    """Write a text file atomically (a temporary file renamed over the target)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    with os.fdopen(fd, "w") as fh:
-        json.dump(obj, fh, indent=2)
-        fh.write("\n")
-    os.replace(tmp, path)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def write_json(obj: dict, path: str | os.PathLike) -> None:
+    """Write JSON atomically."""
+    write_text(json.dumps(obj, indent=2) + "\n", path)
 
 
 class Match:

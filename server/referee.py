@@ -100,6 +100,12 @@ class Referee:
         self.mode_since = self.world.time
         self._event("play_mode", mode.team, None, mode.value + (f": {detail}" if detail else ""))
 
+    def set_play_mode(self, mode: PlayMode) -> None:
+        """Trainer command: switch to `mode` now (a kickoff in progress is forgotten)."""
+        self.kickoff_pending = False
+        self.kickoff_taker = None
+        self._set_mode(PlayMode(mode), "trainer")
+
     def beam_allowed(self) -> bool:
         """Players may beam before kickoff and while a goal is celebrated."""
         return self.mode in (PM.BEFORE_KICK_OFF, PM.GOAL_LEFT, PM.GOAL_RIGHT)

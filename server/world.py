@@ -97,6 +97,7 @@ class World:
         self.unum_of = np.array([p.unum for p in self.players])
         self.heights = np.array([nao.standing_height(p.robot_type) for p in self.players])
         self.time = 0.0
+        self._touching: set[int] = set()  # players in contact with the ball after the last substep
         mujoco.mj_forward(m, self.data)
 
     # ------------------------------------------------------------------ physics
@@ -110,7 +111,7 @@ class World:
         m, d = self.model, self.data
         np.copyto(d.ctrl, ctrl)
         touches: list[int] = []
-        touching = self._ball_contacts()
+        touching = self._touching
         # Sensors are read once a cycle, so MuJoCo computes them only in the last
         # substep (they then describe the state 5 ms before the cycle's end, as
         # SimSpark's describe its last physics step). This saves about 30 %.
@@ -124,6 +125,7 @@ class World:
             for i in sorted(now - touching):
                 touches.append(i)
             touching = now
+        self._touching = touching
         self.time += self.substeps * m.opt.timestep
         return touches
 
