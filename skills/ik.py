@@ -1,0 +1,209 @@
+"""Closed-form inverse kinematics of the Nao legs (and a pointing IK for the arms).
+
+Targets are in the TORSO frame (m, rad). A leg target is the pose of the SOLE
+center (the `lfoot_sole`/`rfoot_sole` site, the same frame
+`RobotKinematics.foot_poses` returns), or of the ankle joint center with
+`target="ankle"` (the foot frame's orientation either way). `rpy` is (roll
+about x, pitch about y, yaw about z) of the foot: R = Rz(yaw) Ry(pitch) Rx(roll).
+
+The leg is hip yaw-pitch (lj1, about a 45-degree axis in the y-z plane), hip
+roll (lj2, +x), hip pitch (lj3, -y), knee (lj4, -y), ankle pitch (lj5, -y) and
+ankle roll (lj6, +x); the three hip axes meet at the hip, the two ankle axes at
+the ankle. The hip-knee and knee-ankle vectors need not be vertical (this
+model's knee sits 5 mm forward); they are used exactly. The solution:
+
+1. the hip-ankle distance gives the knee (bent negative, the only branch
+   inside the joint limits);
+2. the hip seen from the ankle in the foot frame gives ankle roll and pitch
+   (of the two roll branches, the one inside the roll limits);
+3. what is left, R1(lj1) Rx(lj2) Ry(-lj3), is a Y-X-Y Euler decomposition once
+   turned by the yaw-pitch axis' tilt: Rot(a, t) = Rx(tilt) Ry(t) Rx(-tilt)
+   (of the two hip roll branches, the one inside the roll limits).
+
+Inside the limits the solution is unique. Out of reach, the hip-ankle distance
+is clamped to [reach_min, reach_max] (keeping its direction in the foot frame
+and the foot's orientation), then every angle is clipped to its limits; the
+result is a nearby posture within the limits and `reachable` is False. A
+target is reachable when neither clamp moved anything by more than LIMIT_TOL.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from skills.kinematics import ArmGeometry, LegGeometry, LegsGeometry, leg_geometry
+
+LIMIT_TOL = 1e-9  # rad; clamping by more than this marks the target unreachable
+
+
+def _wrap(a: float) -> float:
+    return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def _excess(a: float, lo: float, up: float) -> float:
+    """How far angle `a` lies outside [lo, up] (0 inside)."""
+    return max(lo - a, a - up, 0.0)
+
+
+def solve_leg(g: LegGeometry, foot_pos, foot_rpy, target: str = "sole") -> tuple[np.ndarray, bool]:
+    """Joint angles lj1..lj6 (rad) putting leg `g`'s sole (or ankle) at a torso-frame pose.
+
+    Returns (q6, reachable). q6 is always within the joint limits.
+    """
+    r, p, y = foot_rpy.tolist() if isinstance(foot_rpy, np.ndarray) else map(float, foot_rpy)
+    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    # Foot orientation R = Rz(y) Ry(p) Rx(r), row-major.
+    r00, r01, r02 = cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr
+    r10, r11, r12 = sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr
+    r20, r21, r22 = -sp, cp * sr, cp * cr
+
+    (hipx, hipy, hipz), tilt, hx, hz, kx, kz, (ox, oy, oz), lo, up = g.consts
+    px, py, pz = foot_pos.tolist() if isinstance(foot_pos, np.ndarray) else map(float, foot_pos)
+    if target == "sole":
+        px -= r00 * ox + r01 * oy + r02 * oz
+        py -= r10 * ox + r11 * oy + r12 * oz
+        pz -= r20 * ox + r21 * oy + r22 * oz
+    elif target != "ankle":
+        raise ValueError(f"target must be 'sole' or 'ankle', not {target!r}")
+    # Hip -> ankle, then in the foot frame: u = R^T d.
+    dx, dy, dz = px - hipx, py - hipy, pz - hipz
+    ux = r00 * dx + r10 * dy + r20 * dz
+    uy = r01 * dx + r11 * dy + r21 * dz
+    uz = r02 * dx + r12 * dy + r22 * dz
+
+    reachable = True
+    L = math.sqrt(ux * ux + uy * uy + uz * uz)
+    if L > g.reach_max or L < g.reach_min:
+        reachable = False
+        if L < 1e-12:  # no direction: put the ankle straight below the hip
+            ux, uy, uz, L = 0.0, 0.0, -1.0, 1.0
+        Lc = min(max(L, g.reach_min), g.reach_max)
+        ux, uy, uz, L = ux * Lc / L, uy * Lc / L, uz * Lc / L, Lc
+
+    # 1. Knee: |Ry(q4) h + k| = L. With psi(v) = atan2(v_x, -v_z) (angle from straight
+    # down, forward positive), Ry(a) lowers psi by a.
+    lh, lk = math.hypot(hx, hz), math.hypot(kx, kz)
+    c = (L * L - lh * lh - lk * lk) / (2.0 * lh * lk)
+    q4 = math.atan2(hx, -hz) - math.atan2(kx, -kz) - math.acos(min(1.0, max(-1.0, c)))
+
+    # 2. Ankle: Rx(q6) u = Ry(q5) w, w = Ry(q4) h + k lies in the x-z plane.
+    # Two roll branches put u in the x-z plane, below (z = -|u_yz|) or above the ankle;
+    # take the one inside (or nearest) the ankle roll limits.
+    q6 = math.atan2(-uy, -uz)
+    ryz = math.hypot(uy, uz)
+    q6b = _wrap(q6 + math.pi)
+    if _excess(q6b, lo[5], up[5]) < _excess(q6, lo[5], up[5]):
+        q6, ryz = q6b, -ryz
+    c4, s4 = math.cos(q4), math.sin(q4)
+    wx = c4 * hx + s4 * hz + kx
+    wz = -s4 * hx + c4 * hz + kz
+    q5 = _wrap(math.atan2(wx, -wz) - math.atan2(ux, ryz))
+
+    # 3. Hip: M = R Rx(-q6) Ry(q4 + q5) = R1(q1) Rx(q2) Ry(-q3); N = Rx(-tilt) M.
+    c6, s6 = math.cos(q6), math.sin(q6)
+    c45, s45 = math.cos(q4 + q5), math.sin(q4 + q5)
+    # A = R Rx(-q6): columns a0 = R[:,0], a1 = c6 R[:,1] - s6 R[:,2], a2 = s6 R[:,1] + c6 R[:,2].
+    a01, a02 = c6 * r01 - s6 * r02, s6 * r01 + c6 * r02
+    a11, a12 = c6 * r11 - s6 * r12, s6 * r11 + c6 * r12
+    a21, a22 = c6 * r21 - s6 * r22, s6 * r21 + c6 * r22
+    # M = A Ry(q45): m0 = c a0 - s a2, m1 = a1, m2 = s a0 + c a2.
+    m00, m01, m02 = c45 * r00 - s45 * a02, a01, s45 * r00 + c45 * a02
+    m10, m11, m12 = c45 * r10 - s45 * a12, a11, s45 * r10 + c45 * a12
+    m20, m21, m22 = c45 * r20 - s45 * a22, a21, s45 * r20 + c45 * a22
+    ct, st = math.cos(tilt), math.sin(tilt)
+    # N = Rx(-tilt) M: row 0 unchanged; row1 = ct M1 + st M2; row2 = -st M1 + ct M2.
+    n00, n02 = m00, m02
+    n01 = m01
+    n10, n11, n12 = ct * m10 + st * m20, ct * m11 + st * m21, ct * m12 + st * m22
+    n21 = -st * m11 + ct * m21
+    # N = Ry(a) Rx(b) Ry(g): N11 = cos b, row 1 = (sb sg, cb, -sb cg), column 1 = (sa sb, cb, ca sb).
+    sb_abs = math.hypot(n01, n21)
+    b = math.atan2(sb_abs, n11)
+    # Pick the sign of b whose hip roll q2 = b + tilt is inside (or nearest) the limits.
+    sgn = 1.0 if _excess(b + tilt, lo[1], up[1]) <= _excess(-b + tilt, lo[1], up[1]) else -1.0
+    b *= sgn
+    if sb_abs > 1e-9 or n11 < 0.0:
+        q1 = math.atan2(sgn * n01, sgn * n21)
+        gam = math.atan2(sgn * n10, -sgn * n12)
+    else:  # hip roll axis aligned with the yaw-pitch axis: only q1 + gamma is defined
+        q1 = 0.0
+        gam = math.atan2(n02, n00)
+    q = (q1, b + tilt, -gam, q4, q5, q6)
+    qc = [min(max(a, lo[i]), up[i]) for i, a in enumerate(q)]
+    if reachable and any(abs(a - c) > LIMIT_TOL for a, c in zip(q, qc)):
+        reachable = False
+    return np.array(qc), reachable
+
+
+def leg_ik(geom: LegsGeometry, side: str, foot_pos, foot_rpy,
+           target: str = "sole") -> tuple[np.ndarray, bool]:
+    """Closed-form IK of one leg: (lj1..lj6 in rad, reachable) for a torso-frame foot pose.
+
+    side is "l"/"left" or "r"/"right"; foot_pos (m) and foot_rpy (rad) give the
+    sole center (target="sole") or ankle center (target="ankle") and the foot's
+    orientation in the torso frame.
+    """
+    return solve_leg(geom.leg(side), foot_pos, foot_rpy, target)
+
+
+def arm_point_ik(g: ArmGeometry, point) -> tuple[np.ndarray, bool]:
+    """Shoulder pitch and roll (aj1, aj2 in rad) aiming the straight arm at a torso-frame point (m).
+
+    The elbow joints are assumed at zero. Returns (q2, reachable); reachable is
+    False when the point is closer than the arm tip can aim at or the limits clamp.
+    """
+    tx, ty, tz = (float(point[i]) - g.shoulder[i] for i in range(3))
+    n = math.sqrt(tx * tx + ty * ty + tz * tz)
+    hx, hz = g.hand[0], g.hand[2]
+    la = math.hypot(hx, hz)
+    reachable = n > 1e-9
+    if not reachable:
+        tx, ty, tz, n = 1.0, 0.0, 0.0, 1.0
+    tx, ty, tz = tx / n, ty / n, tz / n
+    ax, bz = hx / la, hz / la  # unit hand direction at zero angles: (ax, 0, bz)
+    # Rz(q2) then Ry(-q1): the y component ax sin(q2) must equal ty.
+    s2 = ty / ax
+    if abs(s2) > 1.0:
+        reachable = False
+        s2 = math.copysign(1.0, s2)
+    # Two roll branches, q2 and pi - q2 (the roll range passes 90 degrees); in the x-z
+    # plane Ry(-q1) then raises the angle atan2(z, x) by q1. Take the first in limits.
+    best, best_excess = None, math.inf
+    for q2 in (math.asin(s2), _wrap(math.copysign(math.pi, s2) - math.asin(s2))):
+        q1 = _wrap(math.atan2(tz, tx) - math.atan2(bz, ax * math.cos(q2)))
+        excess = _excess(q1, g.lower[0], g.upper[0]) + _excess(q2, g.lower[1], g.upper[1])
+        if excess < best_excess:
+            best, best_excess = (q1, q2), excess
+    q = np.array(best)
+    qc = np.minimum(np.maximum(q, g.lower), g.upper)
+    if np.any(np.abs(qc - q) > LIMIT_TOL):
+        reachable = False
+    return qc, reachable
+
+
+@dataclass
+class LegIK:
+    """Per-type cache of the leg geometry with helpers for both legs (torso frame, m, rad)."""
+
+    robot_type: int
+
+    def __post_init__(self):
+        self.geom: LegsGeometry = leg_geometry(self.robot_type)
+
+    def solve(self, side: str, foot_pos, foot_rpy, target: str = "sole") -> tuple[np.ndarray, bool]:
+        """One leg: (lj1..lj6, reachable)."""
+        return solve_leg(self.geom.leg(side), foot_pos, foot_rpy, target)
+
+    def solve_both(self, left_pos, left_rpy, right_pos, right_rpy,
+                   target: str = "sole") -> tuple[np.ndarray, np.ndarray, bool]:
+        """Both legs: (left lj1..lj6, right lj1..lj6, both reachable)."""
+        ql, okl = solve_leg(self.geom.left, left_pos, left_rpy, target)
+        qr, okr = solve_leg(self.geom.right, right_pos, right_rpy, target)
+        return ql, qr, okl and okr
+
+    def point_arm(self, side: str, point) -> tuple[np.ndarray, bool]:
+        """Shoulder (aj1, aj2) aiming one straight arm at a torso-frame point."""
+        return arm_point_ik(self.geom.arm(side), point)
