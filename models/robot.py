@@ -23,7 +23,7 @@ from models import nao
 # Motor model. SimSpark's ODE motors track the commanded velocity almost exactly
 # within their force limit; a stiff velocity servo with an implicit integrator
 # does the same in MuJoCo.
-MOTOR_KV = 4.0  # N m s / rad
+MOTOR_KV = 20.0  # N m s / rad
 JOINT_ARMATURE = 0.01  # kg m^2, reflected rotor inertia; keeps light links stable
 JOINT_DAMPING = 0.05  # N m s / rad
 FOOT_FRICTION = 1.0

@@ -24,17 +24,23 @@ ALL_ROBOTS = sum(1 << (FIRST_ROBOT_BIT + i) for i in range(2 * TEAM_SIZE))
 
 @dataclass(frozen=True)
 class Lineup:
-    """Robot types of each team, index i is uniform number i + 1."""
+    """Robot types of each team, index i is uniform number i + 1.
+
+    A match needs 1 to 11 a side; training worlds (skills, optimization) may
+    leave one side empty.
+    """
 
     left: tuple[int, ...]
     right: tuple[int, ...]
 
     def __post_init__(self) -> None:
         for team, types in (("left", self.left), ("right", self.right)):
-            if not 1 <= len(types) <= TEAM_SIZE:
+            if not 0 <= len(types) <= TEAM_SIZE:
                 raise ValueError(f"the {team} team has {len(types)} players; it needs 1 to 11")
             for t in types:
                 nao.robot_type(t)
+        if not self.left and not self.right:
+            raise ValueError("a line-up needs at least one player")
 
     @classmethod
     def default(cls, n_left: int = TEAM_SIZE, n_right: int = TEAM_SIZE) -> Lineup:

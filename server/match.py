@@ -35,7 +35,7 @@ from models.scene import Lineup
 from server.hearing import Hearing, say_error
 from server.log import LogRecorder, MatchLog
 from server.referee import Referee
-from server.sensors import Proprioception
+from server.sensors import Proprioception, percepts
 from server.vision import VisionSensor
 from server.world import World
 
@@ -117,6 +117,8 @@ class Match:
         if half_time <= 0:
             raise ValueError(f"half time must be positive, got {half_time}")
         self.lineup = lineup or Lineup.default()
+        if not self.lineup.left or not self.lineup.right:
+            raise ValueError("a match needs 1 to 11 players a side")
         self.seed = seed
         self.half_time = half_time
         self.team_names = team_names
@@ -150,19 +152,10 @@ class Match:
 
     def percepts(self) -> list[Percept]:
         """Every player's percept for the current cycle."""
-        w, ref = self.world, self.referee
+        ref = self.referee
         vision = self.vision.see_all() if self.cycle % VISION_PERIOD == 0 else {}
-        out = []
-        for i, (q, gyro, acc, soles) in enumerate(self.proprio.read()):
-            p = w.players[i]
-            out.append(Percept(
-                time=round(w.time, 6), game_time=round(ref.game_time, 6),
-                play_mode=ref.mode.value, score_left=ref.score["L"], score_right=ref.score["R"],
-                side=p.side, unum=p.unum, robot_type=p.robot_type, joints=q, gyro=gyro,
-                accel=acc, foot_forces=soles, vision=vision.get(i),
-                heard=tuple(self.heard.get(i, ())), warnings=tuple(self.warnings.get(i, ())),
-            ))
-        return out
+        return percepts(self.world, self.proprio, vision, ref.game_time, ref.mode.value,
+                        (ref.score["L"], ref.score["R"]), self.heard, self.warnings)
 
     def step(self) -> None:
         """Run one 20 ms cycle."""

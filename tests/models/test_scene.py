@@ -9,8 +9,8 @@ from models.scene import Lineup
 
 
 def test_lineup_bounds():
-    with pytest.raises(ValueError, match="1 to 11"):
-        Lineup((), (0,))
+    with pytest.raises(ValueError, match="at least one player"):
+        Lineup((), ())
     with pytest.raises(ValueError, match="1 to 11"):
         Lineup((0,) * 12, (0,))
     with pytest.raises(ValueError, match="unknown robot type"):

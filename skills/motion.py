@@ -1,0 +1,100 @@
+"""From skills to joint commands: the walk (and skills) through PID with feed-forward.
+
+`Motion` is what an agent's body layer holds: every cycle it takes the
+percept's proprioception, estimates the torso's tilt and roll, asks the walk
+engine (or a skill's keyframes) for joint targets and turns them into joint
+velocities. The command is the target's own rate of change (feed-forward)
+plus a PID on the remaining error, clamped at each joint's maximum speed, so
+fast motions are followed without lag.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from models import nao
+from models.messages import Percept
+from models.rules import CYCLE
+from skills.control import JointPid, PidGains
+from skills.walk import WalkEngine, WalkOutput
+
+HEAD = ("hj1", "hj2")
+
+
+@dataclass
+class TiltEstimator:
+    """Torso pitch (forward positive) and roll (right side down positive) in rad.
+
+    A complementary filter: the gyro (rad/s, torso frame) integrates fast
+    changes, the accelerometer's gravity direction corrects the drift.
+    """
+
+    gain: float = 0.05  # weight of the accelerometer's angle per cycle
+    pitch: float = 0.0
+    roll: float = 0.0
+
+    def update(self, accel: np.ndarray, gyro: np.ndarray, dt: float = CYCLE) -> tuple[float, float]:
+        ax, ay, az = (float(a) for a in accel)
+        # Upright and still the specific force is +g on z; pitching forward tips it onto -x.
+        acc_pitch = math.atan2(-ax, math.hypot(ay, az))
+        acc_roll = math.atan2(ay, az)
+        self.pitch += float(gyro[1]) * dt
+        self.roll += float(gyro[0]) * dt
+        self.pitch += self.gain * (acc_pitch - self.pitch)
+        self.roll += self.gain * (acc_roll - self.roll)
+        return self.pitch, self.roll
+
+    def reset(self) -> None:
+        self.pitch = self.roll = 0.0
+
+
+class Motion:
+    """Walk engine, tilt estimate and joint control of one robot."""
+
+    def __init__(self, robot_type: int, walk: WalkEngine | None = None, feedforward: float = 1.0) -> None:
+        self.robot_type = robot_type
+        self.walk = walk or WalkEngine(robot_type)
+        self.names = nao.joint_names(robot_type)
+        self.max_speed = np.array([j.max_speed for j in nao.joints(robot_type)])
+        self.pid = JointPid(self.max_speed, PidGains(kp=self.walk.params.joint_kp))
+        self.tilt = TiltEstimator()
+        self.feedforward = feedforward
+        self._prev_target: np.ndarray | None = None
+        self.head = np.array([self.names.index(n) for n in HEAD])
+        self.last: WalkOutput | None = None
+
+    def reset(self) -> None:
+        """After a beam, a getup or anything that moved the body by other means."""
+        self.walk.reset()
+        self.pid.reset()
+        self.tilt.reset()
+        self._prev_target = None
+
+    def sense(self, percept: Percept) -> tuple[float, float]:
+        """Update the tilt estimate from the percept; returns (pitch, roll) in rad."""
+        return self.tilt.update(percept.accel, percept.gyro)
+
+    def command(self, target: np.ndarray, percept: Percept) -> np.ndarray:
+        """Joint velocities (rad/s) toward `target` angles (rad, league order; NaN = hold)."""
+        q = percept.joints
+        target = np.where(np.isnan(target), q if self._prev_target is None else
+                          np.where(np.isnan(self._prev_target), q, self._prev_target), target)
+        ff = 0.0 if self._prev_target is None else (target - self._prev_target) / CYCLE
+        self._prev_target = target.copy()
+        v = self.pid(target, q) + self.feedforward * ff
+        return np.clip(v, -self.max_speed, self.max_speed)
+
+    def walk_step(self, percept: Percept, x: float, y: float, turn: float,
+                  set_name: str = "go_to_target", head: np.ndarray | None = None) -> np.ndarray:
+        """Joint velocities for one walk cycle; `head` angles (hj1, hj2) if given."""
+        pitch, roll = self.sense(percept)
+        out = self.walk.update(x, y, turn, set_name, tilt=pitch, roll=roll, gyro=percept.gyro,
+                               joints=percept.joints)
+        self.last = out
+        target = out.targets.copy()
+        if head is not None:
+            target[self.head] = head
+        return self.command(target, percept)

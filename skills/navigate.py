@@ -1,0 +1,66 @@
+"""Walking to a target: walk-engine inputs from where the target lies, and dead reckoning.
+
+`walk_toward` is the go-to-target rule of section 8.2.5: face the target while
+far from it (rotation speed = heading error in degrees / 180), walk in its
+direction as fast as the set allows (`direction_to_xy`), slow down inside a
+braking radius, and turn to the wanted final heading when close. `Odometry`
+integrates the walk engine's odometry into a pose in the field frame for an
+agent (or a benchmark) that has nothing better yet.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from skills.walk import WalkParams, direction_to_xy
+
+
+def wrap(a: float) -> float:
+    """Angle wrapped into [-pi, pi)."""
+    return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def walk_toward(dx: float, dy: float, dheading: float | None, params: WalkParams,
+                brake: float = 0.5, face_beyond: float = 0.6) -> tuple[float, float, float]:
+    """Walk inputs (x, y, turn) in [-1, 1] toward a target at (dx, dy) (m, torso frame).
+
+    dheading: the wanted final heading relative to the current one (rad), or
+    None to keep facing the target. Far from the target (beyond face_beyond)
+    the robot turns to face it; within `brake` it slows down proportionally.
+    """
+    dist = math.hypot(dx, dy)
+    direction = math.atan2(dy, dx)
+    if dist > face_beyond or dheading is None:
+        turn_to = direction if dist > 0.05 else (dheading or 0.0)
+    else:
+        turn_to = dheading
+    turn = max(-1.0, min(1.0, math.degrees(turn_to) / 180.0 * 4.0))
+    x, y = direction_to_xy(direction, params.max_step_size_x, params.max_step_size_y)
+    speed = min(1.0, dist / brake)
+    # While facing far away from the direction of travel, turn first and walk slowly.
+    if dist > face_beyond and abs(direction) > math.radians(45):
+        speed *= 0.3
+    return x * speed, y * speed, turn
+
+
+@dataclass
+class Odometry:
+    """Dead-reckoned torso pose (x, y, heading) in the field frame (m, rad)."""
+
+    x: float = 0.0
+    y: float = 0.0
+    heading: float = 0.0
+
+    def update(self, dx: float, dy: float, dtheta: float) -> None:
+        """Add one cycle of walk odometry (torso frame)."""
+        c, s = math.cos(self.heading), math.sin(self.heading)
+        self.x += c * dx - s * dy
+        self.y += s * dx + c * dy
+        self.heading = wrap(self.heading + dtheta)
+
+    def relative(self, tx: float, ty: float) -> tuple[float, float]:
+        """A field-frame point in the torso frame (m)."""
+        c, s = math.cos(self.heading), math.sin(self.heading)
+        ex, ey = tx - self.x, ty - self.y
+        return c * ex + s * ey, -s * ex + c * ey

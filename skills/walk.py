@@ -1,0 +1,365 @@
+"""The omnidirectional walk engine of UT Austin Villa (dissertation section 8.2.5).
+
+A double linear inverted pendulum chooses the torso's trajectory over the
+stance foot; the feet follow simple smooth functions of the phase: a cosine
+lift, a cosh side-to-side shift, a sigmoid forward swing and a cosine groin
+(hip yaw-pitch) rotation for turning. Requested velocities in [-1, 1] are
+filtered by a proportional controller into step sizes clamped at the maximum
+steps; a center-of-mass error shrinks the steps; torso tilt and roll (from the
+IMU) tilt the feet back level. Inverse kinematics turns the foot targets into
+joint angles. When asked to stop, the robot jogs in place for half a second,
+then stands.
+
+Frames: foot targets are ankle positions and foot orientations in the torso
+frame (x forward, y left, z up; m, rad). Odometry is the torso's motion over
+the ground in its own frame since the previous call (m, m, rad).
+
+Phase bookkeeping follows the dissertation: the phase phi runs from phi_start
+to phi_end (initially -0.5 .. 0.5) at 1/phase_length per second; at the end the
+feet swap roles and the new pendulum starts where its lateral position matches
+the old one: cosh(0.5 k phi_start) = 6 - cosh(0.5 k phi_end), k = sqrt(g / z).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+import numpy as np
+
+from models import nao
+from models.rules import CYCLE
+from skills.ik import LegIK
+from skills.kinematics import RobotKinematics
+from skills.params import PathLike, load_param_sets
+
+G = 9.80665
+FOOT_SEPARATION = 0.10  # m between the ankles at rest (UT's fixed value)
+STOP_JOG_TIME = 0.5  # s of jogging in place before standing still
+BALANCE_SMOOTHING = 0.3  # weight of a new tilt/roll estimate in the balance terms' low-pass
+DATA = Path(__file__).parent / "data"
+
+# Parameter files name these (UT names); units as UT writes them, converted once at load.
+WALK_SCHEMA: dict[str, str] = {
+    "max_step_size_x": "mm", "max_step_size_y": "mm", "max_step_size_angle": "rad",
+    "shift_amount": "mm", "walk_height": "mm", "step_height": "mm",
+    "fraction_still": "1", "fraction_on_ground": "1", "fraction_moving": "1",
+    "fraction_in_air": "1", "phase_length": "s", "default_com_pos_x": "mm",
+    "pid_step_size_x": "1", "pid_step_size_y": "1", "pid_step_size_rot": "1",
+    "max_normal_com_error": "mm", "max_acceptable_com_error": "mm",
+    "fwd_offset": "mm", "fwd_offset_factor": "1", "swing_ankle_offset": "rad",
+    "pid_tilt": "1", "pid_roll": "1", "pid_com_x": "1", "pid_com_y": "1", "pid_com_z": "1",
+    "pid_arm_x": "1", "pid_arm_y": "1",
+    "toe_const_offset": "rad", "toe_amplitude": "rad", "toe_phase_offset": "rad",
+    "ankle_const_offset": "rad", "ankle_amplitude": "rad", "ankle_phase_offset": "rad",
+    "arm_pitch": "rad", "arm_roll": "rad",
+    # Additions to UT's set: gyro damping of the ankles (rad of foot turn per rad/s)
+    # and the joint controller's proportional gain (1/s) the walk is tuned with.
+    "gyro_pitch": "1", "gyro_roll": "1", "joint_kp": "1",
+    # The forward swing's sigmoid steepness (UT: 10); lower is gentler on the motors.
+    "swing_steepness": "1",
+}
+
+# The named parameter sets of section 4.1 and the prefix each has in parameter files.
+WALK_SETS: dict[str, str] = {
+    "go_to_target": "", "sprint": "sprint_", "position_to_dribble": "dribble_",
+    "approach_to_kick": "approach_",
+}
+
+
+@dataclass(frozen=True)
+class WalkParams:
+    """One walk parameter set, SI units."""
+
+    max_step_size_x: float = 0.05
+    max_step_size_y: float = 0.04
+    max_step_size_angle: float = 1.22
+    shift_amount: float = 0.02
+    walk_height: float = 0.175
+    step_height: float = 0.02
+    fraction_still: float = 0.2
+    fraction_on_ground: float = 0.2
+    fraction_moving: float = 0.6
+    fraction_in_air: float = 0.6
+    phase_length: float = 0.38
+    default_com_pos_x: float = 0.0
+    pid_step_size_x: float = 0.03
+    pid_step_size_y: float = 0.03
+    pid_step_size_rot: float = 0.03
+    max_normal_com_error: float = 0.0075
+    max_acceptable_com_error: float = 0.0125
+    fwd_offset: float = 0.0025
+    fwd_offset_factor: float = 0.5
+    swing_ankle_offset: float = -0.0873
+    pid_tilt: float = 0.15
+    pid_roll: float = 0.2
+    pid_com_x: float = 1.0
+    pid_com_y: float = 1.0
+    pid_com_z: float = 0.0
+    pid_arm_x: float = 0.0
+    pid_arm_y: float = 0.0
+    toe_const_offset: float = 0.0
+    toe_amplitude: float = 0.0
+    toe_phase_offset: float = 0.0
+    ankle_const_offset: float = 0.0
+    ankle_amplitude: float = 0.0
+    ankle_phase_offset: float = 0.0
+    arm_pitch: float = -1.5
+    arm_roll: float = 0.15
+    gyro_pitch: float = 0.0
+    gyro_roll: float = 0.0
+    joint_kp: float = 15.0
+    swing_steepness: float = 10.0
+
+    @classmethod
+    def from_values(cls, values: Mapping[str, float], base: WalkParams | None = None) -> WalkParams:
+        known = {f.name for f in fields(cls)}
+        kw = {k: v for k, v in values.items() if k in known}
+        return cls(**{**(base.__dict__ if base else {}), **kw})
+
+
+def default_param_files(robot_type: int) -> list[Path]:
+    """The shipped walk parameter files for a robot type, general first."""
+    files = [DATA / "walk_defaults.txt", DATA / f"walk_type{robot_type}.txt"]
+    return [f for f in files if f.exists()]
+
+
+def load_walk_sets(paths: Iterable[PathLike]) -> dict[str, WalkParams]:
+    """Every named walk set from parameter files (later files override earlier ones).
+
+    Unprefixed names set go-to-target; a set with a prefix starts from
+    go-to-target's values and overrides what its prefixed names give.
+    """
+    raw = load_param_sets(list(paths), WALK_SCHEMA, WALK_SETS.values())
+    base = WalkParams.from_values(raw[""])
+    return {name: WalkParams.from_values(raw[prefix], base) if prefix else base
+            for name, prefix in WALK_SETS.items()}
+
+
+def direction_to_xy(direction: float, max_x: float, max_y: float) -> tuple[float, float]:
+    """Walk inputs (x, y) in [-1, 1] for walking toward `direction` (rad, torso frame)
+    as fast as possible given the sets' maximum speeds (section 8.2.5's formula)."""
+    c, s = math.cos(direction), math.sin(direction)
+    ax, ay = abs(c) * max_y, abs(s) * max_x
+    if ay <= ax:  # |tan(direction)| <= max_y / max_x: x saturates
+        x, y = 1.0, (abs(s) / abs(c)) * max_x / max_y if c != 0 else 1.0
+    else:
+        x, y = (abs(c) / abs(s)) * max_y / max_x, 1.0
+    return math.copysign(x, c), math.copysign(y, s)
+
+
+def _sigmoid(v: float) -> float:
+    return 1.0 / (1.0 + math.exp(-v))
+
+
+@dataclass
+class WalkOutput:
+    """Joint targets (rad, league order; head entries NaN: the walk leaves the head
+    alone) and odometry (dx, dy, dtheta) of the torso since the last call."""
+
+    targets: np.ndarray
+    odometry: tuple[float, float, float]
+    standing: bool
+
+
+class WalkEngine:
+    """The walk of one robot: call `update` once per 20 ms cycle."""
+
+    def __init__(self, robot_type: int, sets: Mapping[str, WalkParams] | None = None,
+                 dt: float = CYCLE) -> None:
+        self.robot_type = robot_type
+        self.sets = dict(sets) if sets is not None else load_walk_sets(default_param_files(robot_type))
+        self.params = self.sets["go_to_target"]
+        self.dt = dt
+        self.ik = LegIK(robot_type)
+        self.kin = RobotKinematics(robot_type)
+        self.names = nao.joint_names(robot_type)
+        self.index = {n: i for i, n in enumerate(self.names)}
+        self.legs = {s: np.array([self.index[f"{s}lj{k}"] for k in range(1, 7)]) for s in "lr"}
+        geo = self.ik.geom
+        self.hip = {s: np.asarray(geo.leg(s).hip, dtype=float) for s in "lr"}
+        self.reset()
+
+    def reset(self) -> None:
+        """Stand still, as after a getup or a beam."""
+        self.phi_start, self.phi_end = -0.5, 0.5
+        self.phi = self.phi_start
+        self.swing = "l"
+        self.step = np.zeros(3)  # current step sizes x (m), y (m), theta (rad)
+        self.walking = False
+        self.stop_time = STOP_JOG_TIME  # s since zero velocity was requested
+        self.tilt = 0.0
+        self.roll = 0.0
+        self.step_factor = 1.0
+        self.expected_com: np.ndarray | None = None
+        self.gyro = np.zeros(3)
+        self.prev_end = {s: np.zeros(3) for s in "lr"}  # (x, y, yaw) offsets where each foot landed
+
+    # ---------------------------------------------------------------- the cycle
+
+    def update(self, x: float, y: float, turn: float, set_name: str = "go_to_target",
+               tilt: float = 0.0, roll: float = 0.0, gyro: np.ndarray | None = None,
+               joints: np.ndarray | None = None) -> WalkOutput:
+        """One cycle: desired speeds in [-1, 1] of the set's maximum steps.
+
+        tilt/roll: the torso's estimated pitch (forward positive) and roll (rad,
+        from the IMU); joints: measured angles (league order) for the center of
+        mass feedback; gyro: the torso's angular velocity (rad/s, torso frame).
+        """
+        if set_name not in self.sets:
+            raise KeyError(f"unknown walk set {set_name!r}; sets are {', '.join(self.sets)}")
+        p = self.params = self.sets[set_name]
+        desired = np.clip([x, y, turn], -1.0, 1.0) * [p.max_step_size_x, p.max_step_size_y,
+                                                       p.max_step_size_angle]
+        moving = bool(np.any(np.abs(desired) > 1e-9))
+        self.stop_time = 0.0 if moving else self.stop_time + self.dt
+        # Proportional step-size filter, clamped at the maximum steps.
+        gain = np.array([p.pid_step_size_x, p.pid_step_size_y, p.pid_step_size_rot])
+        self.step = self.step + gain * (desired - self.step)
+        self.step = np.clip(self.step, -np.array([p.max_step_size_x, p.max_step_size_y,
+                                                   p.max_step_size_angle]),
+                            [p.max_step_size_x, p.max_step_size_y, p.max_step_size_angle])
+        # Center-of-mass error feedback (sensed vs expected a cycle ago) shrinks the steps.
+        if joints is not None and self.expected_com is not None:
+            err = float(np.max(np.abs(self.kin.com(joints)[:2] - self.expected_com[:2])))
+            span = max(p.max_acceptable_com_error - p.max_normal_com_error, 1e-6)
+            self.step_factor = 1.0 - min(1.0, max(0.0, (err - p.max_normal_com_error) / span))
+            self.step *= self.step_factor
+        # Balance: the feet turn against the torso's tilt and roll (low-passed),
+        # with gains pid_tilt and pid_roll: a torso falling forward presses its toes down.
+        self.tilt += BALANCE_SMOOTHING * (tilt - self.tilt)
+        self.roll += BALANCE_SMOOTHING * (roll - self.roll)
+        self.gyro = np.zeros(3) if gyro is None else np.asarray(gyro, dtype=float)
+        standing = not moving and self.stop_time >= STOP_JOG_TIME
+        if standing:
+            self.walking = False
+            self.phi = self.phi_start
+            self.step[:] = 0.0
+            targets = self._targets(standing=True)
+            return WalkOutput(targets, (0.0, 0.0, 0.0), True)
+        self.walking = True
+        span = self.phi_end - self.phi_start
+        self.phi += self.dt / p.phase_length
+        if self.phi >= self.phi_end:
+            self._swap()
+            span = self.phi_end - self.phi_start
+        targets = self._targets(standing=False)
+        # The torso moves one step per phase over the ground.
+        frac = self.dt / (p.phase_length * span)
+        odo = (self.step[0] * frac, self._side_rate() * frac, self._turn_rate() * frac)
+        return WalkOutput(targets, odo, False)
+
+    def _swap(self) -> None:
+        p = self.params
+        k = math.sqrt(G / p.walk_height)
+        alpha = 6.0 - math.cosh(0.5 * k * self.phi_end)
+        start = -math.acosh(alpha) / (0.5 * k) if alpha >= 1.0 else -0.5
+        start = max(start, -0.5)
+        self.phi_start, self.phi_end = start, -start
+        self.phi = self.phi_start
+        self.swing = "r" if self.swing == "l" else "l"
+
+    def _side_rate(self) -> float:
+        """Side motion of the torso per phase (m): only phases led by the foot on the
+        side of motion move the body; the other foot then closes up."""
+        return self.step[1]
+
+    def _turn_rate(self) -> float:
+        return self.step[2]
+
+    # -------------------------------------------------------------- foot targets
+
+    def foot_targets(self, standing: bool = False) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """(ankle position, foot rpy) per side in the torso frame for the current phase."""
+        p = self.params
+        t = 0.0 if standing else (self.phi - self.phi_start) / (self.phi_end - self.phi_start)
+        t = min(max(t, 0.0), 1.0)
+        k = math.sqrt(G / p.walk_height)
+        fs, fm, fg, fa = p.fraction_still, p.fraction_moving, p.fraction_on_ground, p.fraction_in_air
+        sx, sy, sth = (0.0, 0.0, 0.0) if standing else self.step
+        swing, stance = self.swing, ("r" if self.swing == "l" else "l")
+        sign = {"l": 1.0, "r": -1.0}
+        # Lift: cosine during the in-air fraction.
+        zfrac = 0.5 * (1 - math.cos(2 * math.pi * (t - fg) / fa)) if fg <= t <= fg + fa else 0.0
+        # Forward: the stance foot slides back uniformly (the torso moves over it);
+        # the swing foot swings forward on a sigmoid while in the moving fraction.
+        if t < fs:
+            xfrac = -0.5 - t
+        elif t < fs + fm:
+            c = p.swing_steepness
+            s = _sigmoid(c * (-0.5 + (t - fs) / fm))
+            s0, s1 = _sigmoid(-0.5 * c), _sigmoid(0.5 * c)
+            s = (s - s0) / (s1 - s0)
+            xfrac = (-0.5 - fs) + s * ((1.5 - fs - fm) - (-0.5 - fs))
+        else:
+            xfrac = 1.5 - t
+        x_stance, x_swing = sx * (0.5 - t), sx * xfrac
+        dx = p.default_com_pos_x + p.fwd_offset - sx * p.fwd_offset_factor
+        # Side to side: the cosh shift of the pendulum, plus the side step.
+        phi = self.phi_start if standing else self.phi
+        shift = 0.0 if standing else p.shift_amount * (-1.5 + 0.5 * math.cosh(0.5 * k * phi))
+        y_stance = 0.5 * FOOT_SEPARATION + shift
+        y_swing = FOOT_SEPARATION - y_stance
+        if t < fs:
+            yfrac = 0.0
+        elif t < fs + fm:
+            yfrac = 0.5 * (1 - math.cos(math.pi * (t - fs) / fm))
+        else:
+            yfrac = 1.0
+        # Side step: the leading foot (on the side of motion) steps out by |sy| while it
+        # swings, the trailing stance foot drifts out as the body moves over it; in the
+        # next phase both come back. The feet never cross.
+        lead = "l" if sy > 0 else "r"
+        a = abs(sy)
+        swing_out = a * yfrac if swing == lead else a * (1.0 - yfrac)
+        stance_out = a * (1.0 - t) if stance == lead else a * t
+        # Turning: the groin opens by the same rule (the hip yaw-pitch joints only toe out).
+        groin = 0.0
+        if t >= fs + fm:
+            groin = abs(sth)
+        elif t >= fs:
+            groin = 0.5 * abs(sth) * (1 - math.cos(math.pi * (t - fs) / fm))
+        tlead = "l" if sth > 0 else "r"
+        swing_yaw = groin if swing == tlead else abs(sth) - groin
+        stance_yaw = abs(sth) * (1.0 - t) if stance == tlead else abs(sth) * t
+        out = {}
+        for side, xo, yo, out_y, yaw, z in (
+            (swing, x_swing, y_swing, swing_out, swing_yaw, p.step_height * zfrac),
+            (stance, x_stance, y_stance, stance_out, stance_yaw, 0.0),
+        ):
+            hip = self.hip[side]
+            pos = np.array([hip[0] + xo + dx, sign[side] * (yo + out_y), hip[2] - p.walk_height + z])
+            rpy = np.array([p.pid_roll * self.roll + p.gyro_roll * self.gyro[0],
+                            p.pid_tilt * self.tilt + p.gyro_pitch * self.gyro[1], sign[side] * yaw])
+            if side == swing and not standing:
+                rpy[1] += p.swing_ankle_offset * zfrac
+            out[side] = (pos, rpy)
+        return out
+
+    def _targets(self, standing: bool) -> np.ndarray:
+        p = self.params
+        q = np.full(len(self.names), np.nan)
+        feet = self.foot_targets(standing)
+        for side, (pos, rpy) in feet.items():
+            q6, _ = self.ik.solve(side, pos, rpy, target="ankle")
+            q[self.legs[side]] = q6
+        # Arms hang with a little swing against the legs (pid_arm_x) for balance.
+        swing_x = feet["l"][0][0] - feet["r"][0][0]
+        q[self.index["laj1"]] = p.arm_pitch - p.pid_arm_x * swing_x
+        q[self.index["raj1"]] = p.arm_pitch + p.pid_arm_x * swing_x
+        q[self.index["laj2"]] = p.arm_roll
+        q[self.index["raj2"]] = -p.arm_roll
+        for n in ("laj3", "raj3", "laj4", "raj4"):
+            q[self.index[n]] = 0.0
+        if nao.robot_type(self.robot_type).toe:
+            t = 0.0 if standing else (self.phi - self.phi_start) / (self.phi_end - self.phi_start)
+            toe = p.toe_amplitude * math.cos(t * math.pi + p.toe_phase_offset) + p.toe_const_offset
+            ank = p.ankle_amplitude * math.cos(t * math.pi + p.ankle_phase_offset) + p.ankle_const_offset
+            for s in "lr":
+                q[self.index[f"{s}lj7"]] = toe
+                q[self.index[f"{s}lj5"]] += ank
+        full = np.where(np.isnan(q), 0.0, q)
+        self.expected_com = self.kin.com(full)
+        return q

@@ -1,0 +1,97 @@
+"""The walk engine's trajectories, step filter, inputs and parameter sets (no physics)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from skills.params import ParamError
+from skills.walk import (
+    WALK_SETS,
+    WalkEngine,
+    WalkParams,
+    default_param_files,
+    direction_to_xy,
+    load_walk_sets,
+)
+
+
+@pytest.fixture(scope="module")
+def engine():
+    return WalkEngine(0)
+
+
+def test_shipped_sets_load_for_every_type():
+    for t in range(5):
+        sets = load_walk_sets(default_param_files(t))
+        assert set(sets) == set(WALK_SETS)
+        p = sets["go_to_target"]
+        assert 0.01 < p.max_step_size_x < 0.2 and 0.05 < p.phase_length < 1.0
+        assert 0.1 < p.walk_height < 0.3  # mm converted to m once, at load
+
+
+def test_unknown_walk_parameter_names_its_line(tmp_path):
+    f = tmp_path / "bad.txt"
+    f.write_text("max_step_size_x\t60\nmax_step_sise_y\t40\n")
+    with pytest.raises(ParamError, match=r"bad.txt:2:.*max_step_sise_y"):
+        load_walk_sets([f])
+
+
+def test_prefixed_set_overrides_only_its_names(tmp_path):
+    f = tmp_path / "w.txt"
+    f.write_text("max_step_size_x\t60\nsprint_max_step_size_x\t90\n")
+    sets = load_walk_sets([f])
+    assert sets["go_to_target"].max_step_size_x == pytest.approx(0.06)
+    assert sets["sprint"].max_step_size_x == pytest.approx(0.09)
+    assert sets["sprint"].phase_length == sets["go_to_target"].phase_length
+
+
+@pytest.mark.parametrize("direction", np.linspace(-math.pi, math.pi, 25))
+def test_direction_to_xy(direction):
+    x, y = direction_to_xy(direction, 0.08, 0.04)
+    assert max(abs(x), abs(y)) == pytest.approx(1.0)
+    # The resulting velocity points where asked.
+    assert math.atan2(y * 0.04, x * 0.08) == pytest.approx(direction, abs=1e-9) or \
+        abs(abs(direction) - math.pi) < 1e-9
+
+
+def test_step_filter_is_proportional_and_clamped():
+    e = WalkEngine(0, {"go_to_target": WalkParams(pid_step_size_x=0.5, max_step_size_x=0.05)})
+    e.update(1.0, 0.0, 0.0)
+    assert e.step[0] == pytest.approx(0.025)
+    for _ in range(50):
+        e.update(5.0, 0.0, 0.0)  # inputs beyond 1 are clipped
+    assert e.step[0] == pytest.approx(0.05)
+
+
+def test_feet_move_continuously_and_never_cross(engine):
+    e = engine
+    e.reset()
+    prev = None
+    for _ in range(200):
+        out = e.update(0.8, 0.6, 0.3)
+        feet = e.foot_targets()
+        assert feet["l"][0][1] - feet["r"][0][1] > 0.08  # ankles stay apart
+        legs = out.targets[np.r_[e.legs["l"], e.legs["r"]]]
+        if prev is not None:
+            assert np.abs(legs - prev).max() < 0.25  # rad per cycle: no jumps at phase swaps
+        prev = legs
+    assert not out.standing
+
+
+def test_odometry_matches_steps_and_stops():
+    e = WalkEngine(0, {"go_to_target": WalkParams(pid_step_size_x=1.0)})
+    total = 0.0
+    for _ in range(100):
+        total += e.update(1.0, 0.0, 0.0).odometry[0]
+    speed = total / 2.0
+    p = e.params
+    assert speed == pytest.approx(p.max_step_size_x / p.phase_length, rel=0.15)
+    outs = [e.update(0.0, 0.0, 0.0) for _ in range(40)]
+    assert not outs[10].standing and outs[-1].standing  # jogs in place 0.5 s, then stands
+    assert outs[-1].odometry == (0.0, 0.0, 0.0)
+
+
+def test_unknown_set_is_a_clear_error(engine):
+    with pytest.raises(KeyError, match="unknown walk set"):
+        engine.update(0, 0, 0, "moonwalk")
