@@ -160,3 +160,17 @@ def test_beam_only_before_kickoff():
     assert not m.referee.beam_allowed()
     m.referee.set_play_mode(PlayMode.BEFORE_KICK_OFF)
     assert m.referee.beam_allowed()
+
+
+def test_player_down_too_long_is_repositioned():
+    m = standing_match(left=(0, 0), right=(0,))
+    far_away(m)
+    m.world.place_robot(1, -3.0, 2.0, 0.0, lying="back")  # L2 lies on its back
+    run(m, 14.0)
+    assert not [e for e in m.referee.events if e.kind == "reposition" and e.player == 2]
+    assert m.referee.falls["L"] == 1
+    run(m, 1.5)
+    moved = [e for e in m.referee.events if e.kind == "reposition" and e.player == 2]
+    assert moved and "too long" in moved[0].detail
+    assert m.world.torso_up()[1] > 0.9  # put back on its feet, off the side line
+    assert abs(m.world.torso_positions()[1, 1]) > 10.0
