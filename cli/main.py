@@ -74,6 +74,7 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("--out", type=Path, help="write the result as JSON here")
     m.add_argument("--log", type=Path, help="write the match log (.npz) here")
     m.add_argument("--quiet", action="store_true", help="no progress bar")
+    m.add_argument("--view", action="store_true", help="replay the match in MuJoCo's viewer afterwards")
 
     mo = sub.add_parser("model", help="write one robot's MJCF")
     mo.add_argument("--type", type=_robot_type, default=0, dest="robot_type")
@@ -128,9 +129,13 @@ def cmd_match(args: argparse.Namespace) -> int:
 
     left = teams.factory(args.home)
     right = teams.factory(args.away)
+    if args.view:
+        from replay.gl import has_display
+        if not has_display():
+            raise UsageError("--view needs a display (DISPLAY is not set); use --log and soccer render")
     lineup = Lineup.default(args.home_size, args.away_size)
     match = Match(left, right, lineup, half_time=args.half_time, seed=args.seed,
-                  record=args.log is not None, team_names=(args.home, args.away))
+                  record=args.log is not None or args.view, team_names=(args.home, args.away))
     result = match.run(progress=not args.quiet).to_dict()
     if args.out:
         write_json(result, args.out)
@@ -148,6 +153,10 @@ def cmd_match(args: argparse.Namespace) -> int:
     for e in goals:
         who = f" by {e['team']}{e['player']}" if e["player"] else ""
         print(f"  goal {e['time']:7.2f} s  {e['team']}{who}")
+    if args.view:
+        from replay.poses import Replay
+        from replay.viewer import view
+        view(Replay(match.match_log()))
     return 0
 
 
