@@ -1,9 +1,13 @@
 """Match logs: every body's pose at 50 Hz, compressed, for replay and rendering.
 
-A log stores the scene's MJCF and, per cycle, the whole `qpos` (float32), from
-which forward kinematics gives every body's pose exactly; plus play mode,
+A log stores the scene's MJCF and, per cycle, the whole `qpos`, from which
+forward kinematics gives every body's pose; plus play mode,
 score, game time and optional per-player annotations (a role target (x, y) in
 the field frame, NaN when absent). Logs are written atomically.
+
+On disk `qpos` is quantized in steps of QPOS_STEP (1e-5 m or rad: 5 um at most)
+and stored as int32 differences from the previous frame, which compress about
+four times better than float32 (version 2).
 """
 
 from __future__ import annotations
@@ -19,9 +23,22 @@ import numpy as np
 
 from models.rules import PLAY_MODES
 
-LOG_VERSION = 1
-REQUIRED = ("version", "xml", "players", "time", "game_time", "qpos", "play_mode", "score",
+LOG_VERSION = 2
+QPOS_STEP = 1e-5  # m or rad per quantum of the stored qpos
+REQUIRED = ("version", "xml", "players", "time", "game_time", "qpos_delta", "play_mode", "score",
             "targets", "events")
+
+
+def encode_qpos(qpos: np.ndarray) -> np.ndarray:
+    """(T, nq) positions -> int32 quantized frame-to-frame differences."""
+    q = np.round(np.asarray(qpos, dtype=np.float64) / QPOS_STEP).astype(np.int64)
+    delta = np.diff(q, axis=0, prepend=np.zeros((1, q.shape[1]), dtype=np.int64))
+    return delta.astype(np.int32)
+
+
+def decode_qpos(delta: np.ndarray) -> np.ndarray:
+    """Inverse of `encode_qpos` (float32, within QPOS_STEP / 2 of the original)."""
+    return (np.cumsum(delta.astype(np.int64), axis=0) * QPOS_STEP).astype(np.float32)
 
 
 class LogError(ValueError):
@@ -93,7 +110,8 @@ def write_log(log: MatchLog, path: str | os.PathLike) -> None:
             np.savez_compressed(
                 fh, version=np.array(LOG_VERSION), xml=np.array(log.xml),
                 players=np.array(log.players), time=log.time, game_time=log.game_time,
-                qpos=log.qpos, play_mode=log.play_mode, score=log.score, targets=log.targets,
+                qpos_delta=encode_qpos(log.qpos), play_mode=log.play_mode, score=log.score,
+                targets=log.targets,
                 events=np.array(json.dumps(log.events)))
         os.replace(tmp, path)
     except BaseException:
@@ -120,12 +138,12 @@ def read_log(path: str | os.PathLike) -> MatchLog:
     if int(arrays["version"]) != LOG_VERSION:
         raise LogError(f"{path}: log version {int(arrays['version'])}, expected {LOG_VERSION}")
     t = len(arrays["time"])
-    for k in ("game_time", "qpos", "play_mode", "score", "targets"):
+    for k in ("game_time", "qpos_delta", "play_mode", "score", "targets"):
         if len(arrays[k]) != t:
             raise LogError(f"{path}: {k} has {len(arrays[k])} frames, time has {t}")
     return MatchLog(
         xml=str(arrays["xml"]), players=[str(p) for p in arrays["players"]],
-        time=arrays["time"], game_time=arrays["game_time"], qpos=arrays["qpos"],
+        time=arrays["time"], game_time=arrays["game_time"], qpos=decode_qpos(arrays["qpos_delta"]),
         play_mode=arrays["play_mode"], score=arrays["score"], targets=arrays["targets"],
         events=json.loads(str(arrays["events"])),
     )
