@@ -1,0 +1,401 @@
+"""Monte Carlo localization: a particle filter over the robot's (x, y, heading).
+
+Frames: particles live in the *team* frame (m, rad; own goal at -x);
+observations come in the *level* torso frame (see `agent.geometry`), reduced
+to 2D. Section 8.2.2 of MacAlpine's dissertation: 500 particles; on every
+vision frame (1) odometry moves the particles (`predict`, fed every cycle by
+the walk), (2) landmark and field line observations weight them (Gaussians
+over distance and bearing error, in log space; the longest K observed lines
+each scored against its most similar known line by end-point distance, angle
+and length ratio), (3) resampling, only when something was seen, with 5 % of
+the particles drawn anew for a kidnapped robot, then a small random walk. The
+pose estimate is the weighted mean of the weighted set (before resampling) with
+a circular mean for the heading, moved on by odometry until the next frame.
+
+Deviations, each to make the filter fast or quick to recover:
+
+* Line matching scores the observed line's midpoint distance from the known
+  line plus how far its end points reach past the known segment's ends (both
+  measured along the known line), which keeps every term linear in the
+  particle's features so that one matrix product serves all particles,
+  observed and known lines (see `_line_log_likelihood`).
+* Half of the fresh 5 % are drawn uniformly over the field, the other half from
+  the current landmark observations (sensor resetting: the pose a pair of seen
+  landmarks implies, or with a single landmark a random heading and the
+  position that puts it where it was seen). Recovery from a kidnap then takes a
+  few vision frames rather than the tens of seconds pure uniform draws need on
+  a 600 m^2 field.
+* The random walk grows (up to 8x) while even the best particle fits the
+  observations badly, so a cloud that collapsed next to the truth moves onto it.
+* Resampling is systematic (the algorithm of filterpy's `systematic_resample`)
+  but vectorized with `searchsorted` and driven by this filter's own seeded
+  generator: filterpy's version loops in Python and draws from numpy's global
+  random state.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from agent.geometry import landmarks_in_team, lines_in_team, wrap
+from models import field
+
+# UT Austin Villa's odometry factors (a, b, c) for x, y and turn, as shared/NAO.md
+# reads them from PFLocalization.cc: fitted to their walk's odometry. Ours must be
+# fitted to skills/walk.py's (truth vs reported displacement); until then 1.
+UT_ODOMETRY_FACTORS = (0.8, 0.3, 0.2)
+
+
+@dataclass
+class LocalizationParams:
+    """Tunable figures of the particle filter (SI units)."""
+
+    n_particles: int = 500
+    # Odometry: each step (dx, dy, dtheta) is scaled by these factors (the
+    # paper's a, b, c; 1 until the walk's odometry is measured against truth,
+    # see UT_ODOMETRY_FACTORS) ...
+    odometry_scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    # ... and perturbed by Gaussian noise of this fraction of its size.
+    odometry_noise: tuple[float, float, float] = (0.2, 0.2, 0.2)
+    sigma_distance: float = 0.05  # m, landmark distance error, plus ...
+    sigma_distance_rel: float = 0.01  # ... this fraction of the distance
+    sigma_bearing: float = 0.02  # rad, landmark bearing error
+    line_count: int = 3  # K longest observed lines used
+    min_line_length: float = 0.3  # m, shorter observed lines are ignored
+    sigma_line_distance: float = 0.15  # m, end point to known line
+    sigma_line_angle: float = 0.08  # rad, acute angle between observed and known line
+    sigma_line_ratio: float = 0.1  # excess of observed / known length over 1
+    random_fraction: float = 0.05  # particles drawn anew at each resampling
+    walk_xy: float = 0.015  # m, random-walk noise after resampling
+    walk_theta: float = 0.008  # rad
+    seed_sigma_theta: float = 0.02  # rad of noise on headings of particles seeded from landmarks
+    walk_max_growth: float = 8.0  # largest factor on the random walk when the best particle fits badly
+    field_margin: float = 0.5  # m beyond the lines where uniform particles may fall
+
+
+class ParticleFilter:
+    """500 (x, y, heading) particles in the team frame of `side` ('L' or 'R').
+
+    Feed it `predict(dx, dy, dtheta)` with odometry (torso frame, m and rad)
+    every cycle, and `update(...)` with each vision frame's level-frame
+    observations; read `pose`. Particle headings are not wrapped after the random
+    walk (only their sine and cosine are used); `pose` is.
+    """
+
+    def __init__(self, side: str = "L", seed: int = 0, params: LocalizationParams | None = None) -> None:
+        self.params = params or LocalizationParams()
+        self.rng = np.random.default_rng(seed)
+        self.side = side
+        lm = landmarks_in_team(side)
+        self._lm_names = {n: i for i, n in enumerate(lm)}
+        self._lm_xy = np.array([v[:2] for v in lm.values()])
+        lines = lines_in_team(side)[:, :, :2]
+        a, b = lines[:, 0], lines[:, 1]
+        d = b - a
+        length = np.hypot(d[:, 0], d[:, 1])
+        u = d / length[:, None]
+        self._line_len = length
+        angle = np.arctan2(u[:, 1], u[:, 0])
+        n = np.stack([-u[:, 1], u[:, 0]], axis=1)
+        mid = (a + b) / 2
+        # Rows of _line_w map an observed line's features (fx, fy, C, S, 1) - its
+        # midpoint in the team frame and cos / sin of twice its direction - to, per
+        # known line: the midpoint's coordinate along it from its center and its
+        # distance from it (both over sigma_line_distance), and the angle penalty
+        # (1 - cos 2 da) / (2 sigma_line_angle^2) = sin^2 da / sigma^2 ~ (da / sigma)^2.
+        inv = 1.0 / self.params.sigma_line_distance
+        ka = 0.5 / self.params.sigma_line_angle ** 2
+        m_lines = len(a)
+        w = np.zeros((3 * m_lines, 5))
+        w[:m_lines, 0:2] = u * inv
+        w[:m_lines, 4] = -(mid * u).sum(axis=1) * inv
+        w[m_lines:2 * m_lines, 0:2] = n * inv
+        w[m_lines:2 * m_lines, 4] = -(a * n).sum(axis=1) * inv
+        w[2 * m_lines:, 2] = -ka * np.cos(2 * angle)
+        w[2 * m_lines:, 3] = -ka * np.sin(2 * angle)
+        w[2 * m_lines:, 4] = ka
+        self._line_w = w
+        # Pieces of the center circle are short; an observed line longer than
+        # _circle_piece is compared with the straight lines only.
+        r_mid = np.hypot(mid[:, 0], mid[:, 1])
+        straight = ~((r_mid < field.CENTER_CIRCLE_RADIUS + 1e-6) & (length < field.CENTER_CIRCLE_RADIUS))
+        self._circle_piece = float(length[~straight].max() * 1.1) if (~straight).any() else math.inf
+        rows = np.concatenate([np.nonzero(straight)[0] + j * m_lines for j in range(3)])
+        self._line_w_straight = w[rows]
+        self._line_len_straight = length[straight]
+        m = self.params.field_margin
+        self._bounds = np.array([field.HALF_LENGTH + m, field.HALF_WIDTH + m])
+        self._high = np.array([self._bounds[0], self._bounds[1], math.pi])
+        self._low = -self._high
+        n_p = self.params.n_particles
+        self.particles = np.zeros((n_p, 3))
+        self.weights = np.full(n_p, 1.0 / n_p)
+        self._pose = np.zeros(3)
+        self._spread = float("inf")
+        self.misfit = 0.0  # s.d. per measured quantity of the best particle at the last update
+        self.last_update_seen = False
+        self.reset_uniform()
+
+    # ------------------------------------------------------------------ resets
+
+    def _uniform(self, k: int) -> np.ndarray:
+        out = np.empty((k, 3))
+        out[:, :2] = self.rng.uniform(-self._bounds, self._bounds, (k, 2))
+        out[:, 2] = self.rng.uniform(-math.pi, math.pi, k)
+        return out
+
+    def reset_uniform(self) -> None:
+        """Forget everything: particles spread uniformly over the field and headings."""
+        self.particles[:] = self._uniform(len(self.particles))
+        self.weights.fill(1.0 / len(self.weights))
+        self._pose = self._mean(self.particles, self.weights)
+        self._spread = float("inf")
+
+    def reset_around(self, x: float, y: float, theta: float, sigma_xy: float = 0.1,
+                     sigma_theta: float = 0.1, fraction: float = 1.0) -> None:
+        """Put `fraction` of the particles (the rest stay) in a Gaussian around a pose
+        (team frame; m, rad), e.g. after a beam or a teammate's report. The estimate is
+        that pose until the next update weighs the particles."""
+        n = len(self.particles)
+        k = max(1, min(n, int(round(fraction * n))))
+        idx = self.rng.choice(n, k, replace=False) if k < n else np.arange(n)
+        noise = self.rng.standard_normal((k, 3)) * (sigma_xy, sigma_xy, sigma_theta)
+        self.particles[idx] = np.array([x, y, theta]) + noise
+        self.particles[idx, 2] = wrap(self.particles[idx, 2])
+        self.weights.fill(1.0 / n)
+        self._pose = np.array([x, y, float(wrap(theta))])  # until the next update weighs them
+        self._spread = sigma_xy
+
+    # ---------------------------------------------------------------- odometry
+
+    def predict(self, dx: float, dy: float, dtheta: float) -> None:
+        """Move every particle by an odometry step (dx, dy in m in the torso frame at the
+        step's start, dtheta in rad), scaled and perturbed per `LocalizationParams`."""
+        if dx == 0.0 and dy == 0.0 and dtheta == 0.0:
+            return
+        sx, sy, st = self.params.odometry_scale
+        nx, ny, nt = self.params.odometry_noise
+        n = len(self.particles)
+        z = self.rng.standard_normal((n, 3))
+        ddx = sx * dx * (1.0 + nx * z[:, 0])
+        ddy = sy * dy * (1.0 + ny * z[:, 1])
+        ddt = st * dtheta * (1.0 + nt * z[:, 2])
+        p = self.particles
+        c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
+        p[:, 0] += c * ddx - s * ddy
+        p[:, 1] += s * ddx + c * ddy
+        p[:, 2] = wrap(p[:, 2] + ddt)
+        x, y, t = self._pose
+        ex, ey = sx * dx, sy * dy
+        self._pose = np.array([x + math.cos(t) * ex - math.sin(t) * ey,
+                               y + math.sin(t) * ex + math.cos(t) * ey, wrap(t + st * dtheta)])
+
+    # ------------------------------------------------------------ observations
+
+    def _select(self, landmark_names, landmarks, lines):
+        """(landmark indices, their (k, 2) level-frame observations, the K longest usable
+        observed lines (K, 2, 2) and their lengths)."""
+        pr = self.params
+        pairs = [(self._lm_names[n], i) for i, n in enumerate(landmark_names) if n in self._lm_names]
+        lm_idx = [p[0] for p in pairs]
+        lm_obs = np.asarray(landmarks, dtype=float)[[p[1] for p in pairs], :2] if pairs else None
+        lines = np.asarray(lines, dtype=float)
+        seg = length = None
+        if lines.size:
+            seg = lines[:, :, :2]
+            d = seg[:, 1] - seg[:, 0]
+            length = np.hypot(d[:, 0], d[:, 1])
+            order = np.argsort(-length)[:pr.line_count]
+            order = order[length[order] >= pr.min_line_length]
+            seg, length = (seg[order], length[order]) if len(order) else (None, None)
+        return lm_idx, lm_obs, seg, length
+
+    def log_likelihood(self, particles: np.ndarray, landmark_names: tuple[str, ...] | list[str],
+                       landmarks: np.ndarray, lines: np.ndarray) -> np.ndarray:
+        """Log-likelihood (n,) of the observations for each particle (n, 3).
+
+        landmarks: (k, 2+) level-frame positions (m) of the named landmarks;
+        lines: (l, 2, 2+) level-frame end points (m) of observed field lines.
+        """
+        lm_idx, lm_obs, seg, length = self._select(landmark_names, landmarks, lines)
+        t = particles[:, 2]
+        return self._log_likelihood(particles, np.cos(t), np.sin(t), lm_idx, lm_obs, seg, length)
+
+    def _log_likelihood(self, particles, c, s, lm_idx, lm_obs, seg, length) -> np.ndarray:
+        pr = self.params
+        ll = np.zeros(len(particles))
+        if lm_idx:
+            obs = lm_obs
+            r_obs = np.hypot(obs[:, 0], obs[:, 1])
+            lm = self._lm_xy[lm_idx]  # (k, 2)
+            ex = lm[:, 0] - particles[:, 0:1]  # (n, k) expected offsets, team frame
+            ey = lm[:, 1] - particles[:, 1:2]
+            r_exp = np.sqrt(ex * ex + ey * ey)
+            cc, ss = c[:, None], s[:, None]
+            # Bearing error d through its chord: 2 - 2 cos d = (2 sin(d / 2))^2 ~ d^2, with
+            # cos d the cosine between the expected offset and the observed one turned
+            # into the team frame by the particle's heading (no arctan2, no wrapping).
+            cos_d = ex * (cc * obs[:, 0] - ss * obs[:, 1])
+            cos_d += ey * (ss * obs[:, 0] + cc * obs[:, 1])
+            cos_d /= r_exp * r_obs + 1e-9
+            dr = (r_exp - r_obs) * (1.0 / (pr.sigma_distance + pr.sigma_distance_rel * r_obs))
+            dr *= dr
+            dr += (2.0 - 2.0 * cos_d) * (1.0 / pr.sigma_bearing ** 2)
+            ll -= 0.5 * dr.sum(axis=1)
+        if seg is not None:
+            ll += self._line_log_likelihood(particles, c, s, seg, length)
+        return ll
+
+    def _line_log_likelihood(self, particles: np.ndarray, c: np.ndarray, s: np.ndarray, seg: np.ndarray,
+                             length: np.ndarray) -> np.ndarray:
+        """Sum over observed lines (K, 2, 2) of the best match's log-similarity, per particle.
+
+        For each particle, observed line and known line: the distance of the observed
+        line's midpoint from the known line, how far its end points (midpoint +- half
+        its length along the known line) reach past the known segment's ends, the
+        acute angle between the lines (as sin^2, which has the period pi of undirected
+        lines) and the excess of the length ratio over 1. Every projection is linear
+        in the particle features (1, x, y, cos t, sin t, cos 2t, sin 2t), so one
+        float32 matrix product gives all of them for all (known line, observed line,
+        particle) triples; only squares, a clip and a minimum remain. Observed lines
+        too long to be a piece of the center circle are matched against the straight
+        lines only.
+        """
+        pr = self.params
+        k = len(seg)
+        if length.min() > self._circle_piece:
+            w_all, known_len = self._line_w_straight, self._line_len_straight
+        else:
+            w_all, known_len = self._line_w, self._line_len
+        m = len(known_len)
+        mx, my = seg.mean(axis=1).T  # (K,) midpoints, level frame
+        a2 = 2.0 * np.arctan2(seg[:, 1, 1] - seg[:, 0, 1], seg[:, 1, 0] - seg[:, 0, 0])
+        ca, sa = np.cos(a2), np.sin(a2)
+        g = np.zeros((k, 5, 7))  # per observed line: particle features -> (fx, fy, C, S, 1)
+        g[:, 0, 1] = 1.0
+        g[:, 0, 3], g[:, 0, 4] = mx, -my
+        g[:, 1, 2] = 1.0
+        g[:, 1, 3], g[:, 1, 4] = my, mx
+        g[:, 2, 5], g[:, 2, 6] = ca, -sa
+        g[:, 3, 5], g[:, 3, 6] = sa, ca
+        g[:, 4, 0] = 1.0
+        b = np.einsum("jf,kfq->jkq", w_all, g).astype(np.float32).reshape(3 * m * k, 7)
+        q = np.empty((7, len(particles)), dtype=np.float32)
+        q[0] = 1.0
+        q[1], q[2] = particles[:, 0], particles[:, 1]
+        q[3], q[4] = c, s
+        q[5] = c * c - s * s
+        q[6] = 2.0 * c * s
+        proj = (b @ q).reshape(3, m, k, len(particles))
+        along, perp, score = proj[0], proj[1], proj[2]
+        inv = 1.0 / pr.sigma_line_distance
+        np.abs(along, out=along)
+        ratio = np.maximum(length[None, :] / known_len[:, None] - 1.0, 0.0) / pr.sigma_line_ratio
+        along += (((0.5 * length)[None, :] - 0.5 * known_len[:, None]) * inv)[:, :, None]
+        np.maximum(along, 0.0, out=along)
+        along *= along
+        perp *= perp
+        score += along
+        score += perp
+        score += (ratio * ratio)[:, :, None]
+        return -0.5 * score.min(axis=0).sum(axis=0, dtype=np.float64)
+
+    def update(self, landmark_names: tuple[str, ...] | list[str], landmarks: np.ndarray,
+               lines: np.ndarray) -> bool:
+        """Weight the particles by one vision frame's observations and resample.
+
+        landmarks: (k, 2+) level-frame positions (m) of the named landmarks; lines:
+        (l, 2, 2+) level-frame end points (m) of observed field lines. Returns False
+        (and changes nothing) when neither a landmark nor a usable line was seen.
+        """
+        lm_idx, lm_obs, seg, length = self._select(landmark_names, landmarks, lines)
+        self.last_update_seen = bool(lm_idx) or seg is not None
+        if not self.last_update_seen:
+            return False
+        p = self.particles
+        c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
+        ll = self._log_likelihood(p, c, s, lm_idx, lm_obs, seg, length)
+        n_terms = 2 * len(lm_idx) + (0 if seg is None else 3 * len(seg))
+        best = float(ll.max())
+        # Misfit of the best particle, in standard deviations per measured quantity.
+        self.misfit = math.sqrt(max(0.0, -2.0 * best) / n_terms)
+        w = np.exp(ll - best)
+        w *= 1.0 / w.sum()
+        self.weights = w
+        x, y = w @ p[:, 0], w @ p[:, 1]
+        self._pose = np.array([x, y, math.atan2(w @ s, w @ c)])
+        dx, dy = p[:, 0] - x, p[:, 1] - y
+        self._spread = float(math.sqrt(w @ (dx * dx + dy * dy)))
+        self._resample(lm_idx, lm_obs)
+        return True
+
+    # -------------------------------------------------------------- resampling
+
+    def _resample(self, lm_idx: list[int], lm_obs: np.ndarray | None) -> None:
+        """Systematic resampling of all but the fresh 5 %, a random walk, fresh particles."""
+        pr = self.params
+        n = len(self.particles)
+        n_new = int(round(pr.random_fraction * n))
+        n_keep = n - n_new
+        cum = np.cumsum(self.weights)
+        cum[-1] = 1.0
+        idx = np.searchsorted(cum, (self.rng.random() + np.arange(n_keep)) * (1.0 / n_keep))
+        out = np.empty((n, 3))
+        # The random walk grows when even the best particle fits badly (the cloud has
+        # collapsed next to the truth rather than on it) and shrinks back when it fits.
+        grow = min(max(self.misfit, 1.0), pr.walk_max_growth)
+        noise = self.rng.standard_normal((n_keep, 3))
+        noise *= (pr.walk_xy * grow, pr.walk_xy * grow, pr.walk_theta * grow)
+        np.add(self.particles[idx], noise, out=out[:n_keep])
+        fresh = out[n_keep:]
+        fresh[:] = self.rng.uniform(self._low, self._high, (n_new, 3))
+        if lm_idx and n_new > 1:
+            self._seed_from_landmarks(fresh[:n_new // 2], lm_idx, lm_obs)
+        self.particles = out
+        self.weights = np.full(n, 1.0 / n)
+
+    def _seed_from_landmarks(self, out: np.ndarray, lm_idx: list[int], lm_obs: np.ndarray) -> None:
+        """Sensor resetting: fill `out` (k, 3) with poses that explain the landmark
+        observations. With two or more landmarks in view each pose comes from a random
+        pair (heading from the direction between the two, position from the first);
+        with one, the heading is random and the position puts the landmark where it
+        was seen."""
+        pr = self.params
+        k = len(out)
+        lm = self._lm_xy[np.asarray(lm_idx)]
+        i = self.rng.integers(len(lm_idx), size=k)
+        if len(lm_idx) >= 2:
+            j = (i + self.rng.integers(1, len(lm_idx), size=k)) % len(lm_idx)  # j != i
+            dl = lm[j] - lm[i]
+            do = lm_obs[j] - lm_obs[i]
+            theta = np.arctan2(dl[:, 1], dl[:, 0]) - np.arctan2(do[:, 1], do[:, 0])
+            theta += self.rng.standard_normal(k) * pr.seed_sigma_theta
+        else:
+            theta = out[:, 2]
+        c, s = np.cos(theta), np.sin(theta)
+        obs = lm_obs[i]
+        out[:, 0] = lm[i, 0] - (c * obs[:, 0] - s * obs[:, 1])
+        out[:, 1] = lm[i, 1] - (s * obs[:, 0] + c * obs[:, 1])
+        out[:, 2] = theta
+
+    # ---------------------------------------------------------------- estimate
+
+    @staticmethod
+    def _mean(p: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """Weighted mean (x, y) and circular mean heading of particles p with weights w."""
+        return np.array([w @ p[:, 0], w @ p[:, 1], math.atan2(w @ np.sin(p[:, 2]), w @ np.cos(p[:, 2]))])
+
+    @property
+    def pose(self) -> np.ndarray:
+        """Estimated (x, y, heading) in the team frame (m, m, rad): the weighted mean
+        of the last weighted particle set, moved on by odometry since."""
+        return self._pose.copy()
+
+    @property
+    def spread(self) -> float:
+        """Weighted standard deviation (m) of the particles' positions around the estimate,
+        as of the last weighting (the fresh 5 % of a resampling are left out)."""
+        return self._spread

@@ -1,0 +1,77 @@
+"""Vision percepts turned from polar head-camera readings into the level torso frame.
+
+The camera sits on a head that pans (hj1) and tilts (hj2) on the torso, which
+itself leans. Every vision frame is therefore moved, with the head joint angles
+read in the same percept and the torso tilt from `agent.imu`, into the *level*
+frame (torso origin and yaw, z vertical; see `agent.geometry`). From there the
+localizer turns 2D positions into the team frame with the pose estimate.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from agent.geometry import camera_in_torso, from_polar
+from models.messages import Vision
+
+
+@dataclass(frozen=True)
+class Observation:
+    """One vision frame in the level frame (m, relative to the torso center).
+
+    camera_rotation / camera_position give the camera's pose in the level frame
+    (a camera-frame vector v is camera_rotation @ v + camera_position), for
+    checking what should have been in view.
+    """
+
+    time: float  # s, server time of the percept
+    landmark_names: tuple[str, ...]
+    landmarks: np.ndarray  # (k, 3)
+    ball: np.ndarray | None  # (3,)
+    lines: np.ndarray  # (n, 2, 3) end points
+    player_ours: np.ndarray  # (p,) bool
+    player_unum: np.ndarray  # (p,) int
+    player_part: np.ndarray  # (p,) index into models.messages.SEEN_PARTS
+    players: np.ndarray  # (p, 3)
+    camera_rotation: np.ndarray  # (3, 3)
+    camera_position: np.ndarray  # (3,)
+
+    @property
+    def seen_anything_fixed(self) -> bool:
+        """True when a landmark or a field line is in view (what the localizer can use)."""
+        return len(self.landmark_names) > 0 or len(self.lines) > 0
+
+
+def camera_in_level(neck_yaw: float, head_pitch: float, level: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Camera pose (R, p) in the level frame for head angles (rad) and the torso's
+    torso-to-level rotation `level` (3x3)."""
+    r, p = camera_in_torso(neck_yaw, head_pitch)
+    return level @ r, level @ p
+
+
+def observe(vision: Vision, time: float, neck_yaw: float, head_pitch: float,
+            level: np.ndarray | None = None) -> Observation:
+    """Move every object of a vision percept into the level frame.
+
+    neck_yaw, head_pitch: hj1, hj2 (rad) of the same percept; level: the torso's
+    torso-to-level rotation (identity for an upright torso).
+    """
+    if level is None:
+        level = np.eye(3)
+    rot, pos = camera_in_level(neck_yaw, head_pitch, level)
+    # One conversion for every object of the frame, then split.
+    n_lm, n_ln, n_pl = len(vision.landmarks), len(vision.lines), len(vision.players)
+    parts = [vision.landmarks.reshape(-1, 3), vision.lines.reshape(-1, 3), vision.players.reshape(-1, 3)]
+    if vision.ball is not None:
+        parts.append(np.asarray(vision.ball, dtype=float).reshape(1, 3))
+    allp = from_polar(np.concatenate(parts)) @ rot.T + pos
+    a, b = n_lm, n_lm + 2 * n_ln
+    return Observation(
+        time=time, landmark_names=vision.landmark_names, landmarks=allp[:a],
+        ball=allp[-1] if vision.ball is not None else None, lines=allp[a:b].reshape(n_ln, 2, 3),
+        player_ours=np.asarray(vision.player_ours, dtype=bool),
+        player_unum=np.asarray(vision.player_unum, dtype=int),
+        player_part=np.asarray(vision.player_part, dtype=int),
+        players=allp[b:b + n_pl], camera_rotation=rot, camera_position=pos)

@@ -1,0 +1,319 @@
+"""The agent's picture of the world, built only from its percepts (dissertation 8.2.1).
+
+Every object that can ever be seen - the eight flags and posts, the ball, up to
+eleven teammates and eleven opponents - is a `WorldObject` with its last
+known position (team frame), when it was last seen, whether it is seen now,
+and whether the memory is still valid: an object that should be in view at
+its remembered place but is not seen there is no longer valid. Unseen objects
+stay where they were last seen; teammates' messages update them too.
+
+Per cycle `update(percept, odometry)`: IMU tilt and fall flag; odometry into
+the particle filter; the ball filter's prediction; on vision frames (unless
+fallen) the observations moved into the level frame, the particle filter's
+update, and every seen object placed on the field with the new pose estimate;
+then the heard messages. `message()` / `say()` give what to say in this
+player's time slot.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from agent import comm
+from agent.ballfilter import BallFilter
+from agent.geometry import landmarks_in_team, wrap
+from agent.imu import TiltEstimator
+from agent.localization import LocalizationParams, ParticleFilter
+from agent.perception import Observation, observe
+from models.messages import SEEN_PARTS, Percept
+from models.rules import CYCLE, TEAM_SIZE, VIEW_CONE
+
+NOT_LOCALIZED_AFTER = 3.0  # s without a landmark or line before the robot calls itself lost
+LOST_SPREAD = 1.0  # m of particle spread that also counts as lost
+BALL_SIGMA_NEAR = 0.02  # m, own ball sighting at 0 m ...
+BALL_SIGMA_PER_M = 0.01  # ... plus this per m of distance
+HEARD_BALL_SIGMA = 0.4  # m, a teammate's ball report
+PLAYER_MEMORY = 4.0  # s a player sighting is reported on to teammates
+_PART = {n: i for i, n in enumerate(SEEN_PARTS)}
+_HALF_CONE = VIEW_CONE / 2 - math.radians(5.0)  # margin for "should have been seen"
+
+
+@dataclass
+class WorldObject:
+    """One object's memory. Positions are in the team frame (m); heading in rad."""
+
+    name: str
+    position: np.ndarray = field(default_factory=lambda: np.full(3, np.nan))
+    vision: np.ndarray | None = None  # last polar reading (camera frame)
+    heading: float = math.nan  # robots only
+    last_seen: float = -math.inf  # s, by this robot's eyes
+    last_heard: float = -math.inf  # s, from a teammate
+    currently_seen: bool = False  # in the latest vision frame
+    valid: bool = False
+    fallen: bool = False  # robots: seen or reported fallen
+
+    @property
+    def known(self) -> bool:
+        return bool(np.isfinite(self.position[0]))
+
+
+class WorldModel:
+    """World model of one player (`side` 'L'/'R', uniform number `unum`)."""
+
+    def __init__(self, side: str, unum: int, seed: int = 0,
+                 params: LocalizationParams | None = None) -> None:
+        self.side = side
+        self.unum = unum
+        self.time = -math.inf
+        self.tilt = TiltEstimator()
+        self.localizer = ParticleFilter(side, seed=seed, params=params)
+        self.ball_filter = BallFilter()
+        self.landmark_positions = landmarks_in_team(side)
+        self.objects: dict[str, WorldObject] = {}
+        for name, pos in self.landmark_positions.items():
+            self.objects[name] = WorldObject(name, position=pos.copy(), valid=True)
+        self.objects["ball"] = WorldObject("ball")
+        for u in range(1, TEAM_SIZE + 1):
+            self.objects[f"T{u}"] = WorldObject(f"T{u}")
+            self.objects[f"O{u}"] = WorldObject(f"O{u}")
+        self.last_fixed_seen = -math.inf  # s, last vision frame with a landmark or line
+        self.torso_height = 0.36  # m, re-estimated from landmarks and lines
+        self.observation: Observation | None = None
+        self.heard: list[comm.TeamMessage] = []  # decoded teammates' messages this cycle
+        self.teammate_lost: dict[int, float] = {}  # unum -> time it said it was not localized
+        self.relocalized_by_teammate = -math.inf
+
+    # ------------------------------------------------------------------ state
+
+    @property
+    def pose(self) -> np.ndarray:
+        """Own (x, y, heading) in the team frame (m, m, rad)."""
+        return self.localizer.pose
+
+    @property
+    def fallen(self) -> bool:
+        """True while the accelerometer says the torso lies (see `agent.imu`)."""
+        return self.tilt.fallen
+
+    @property
+    def not_localized(self) -> bool:
+        """True when no landmark or line was seen for NOT_LOCALIZED_AFTER s, or the
+        particles are spread over more than LOST_SPREAD m."""
+        return (self.time - self.last_fixed_seen > NOT_LOCALIZED_AFTER
+                or self.localizer.spread > LOST_SPREAD)
+
+    @property
+    def ball(self) -> WorldObject:
+        """The ball's memory; its position is the ball filter's estimate."""
+        return self.objects["ball"]
+
+    def teammate(self, unum: int) -> WorldObject:
+        return self.objects[f"T{unum}"]
+
+    def opponent(self, unum: int) -> WorldObject:
+        return self.objects[f"O{unum}"]
+
+    def to_field(self, level_xyz: np.ndarray) -> np.ndarray:
+        """Level-frame points (..., 3) relative to the torso -> team frame (m)."""
+        x, y, t = self.pose
+        c, s = math.cos(t), math.sin(t)
+        p = np.asarray(level_xyz, dtype=float)
+        out = np.empty(p.shape)
+        out[..., 0] = x + c * p[..., 0] - s * p[..., 1]
+        out[..., 1] = y + s * p[..., 0] + c * p[..., 1]
+        out[..., 2] = self.torso_height + p[..., 2]
+        return out
+
+    def to_level(self, xyz: np.ndarray) -> np.ndarray:
+        """Team-frame points (..., 3) -> level frame relative to the torso (m)."""
+        x, y, t = self.pose
+        c, s = math.cos(t), math.sin(t)
+        p = np.asarray(xyz, dtype=float)
+        dx, dy = p[..., 0] - x, p[..., 1] - y
+        out = np.empty(p.shape)
+        out[..., 0] = c * dx + s * dy
+        out[..., 1] = -s * dx + c * dy
+        out[..., 2] = p[..., 2] - self.torso_height
+        return out
+
+    def ball_relative(self) -> tuple[float, float] | None:
+        """(bearing rad in the torso's yaw, ground distance m) of the ball estimate, if any."""
+        if not self.ball_filter.initialized:
+            return None
+        bx, by = self.ball_filter.position
+        x, y, t = self.pose
+        return float(wrap(math.atan2(by - y, bx - x) - t)), math.hypot(bx - x, by - y)
+
+    # ----------------------------------------------------------------- update
+
+    def beamed(self, x: float, y: float, heading: float) -> None:
+        """Tell the localizer about a beam to (x, y, heading) (team frame)."""
+        self.localizer.reset_around(x, y, heading, sigma_xy=0.1, sigma_theta=0.2, fraction=0.8)
+
+    def update(self, percept: Percept, odometry: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
+        """Fold one cycle's percept in; odometry is the walk's (dx, dy, dtheta) since the
+        last cycle (m, m, rad; torso frame)."""
+        dt = CYCLE if not math.isfinite(self.time) else max(0.0, percept.time - self.time)
+        self.time = percept.time
+        self.tilt.update(percept.gyro, percept.accel, dt)
+        self.localizer.predict(*odometry)
+        if self.ball_filter.initialized:
+            self.ball_filter.predict(dt)
+        if percept.vision is not None:
+            for obj in self.objects.values():
+                obj.currently_seen = False
+            if not self.tilt.fallen:  # a falling or lying camera misleads more than it tells
+                self._see(percept)
+        self._hear(percept)
+        b = self.ball
+        if self.ball_filter.initialized:
+            b.position = np.array([*self.ball_filter.position, b.position[2] if b.known else 0.042])
+
+    def _see(self, percept: Percept) -> None:
+        obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
+                      self.tilt.level)
+        self.observation = obs
+        if self.localizer.update(obs.landmark_names, obs.landmarks, obs.lines):
+            self.last_fixed_seen = percept.time
+        # Torso height from landmarks and lines of known height.
+        known_z = [self.landmark_positions[n][2] if n in self.landmark_positions else np.nan
+                   for n in obs.landmark_names]
+        z = np.concatenate([np.array(known_z) - obs.landmarks[:, 2], -obs.lines[:, :, 2].ravel()])
+        z = z[np.isfinite(z)]
+        if len(z):
+            self.torso_height += 0.2 * (float(np.median(z)) - self.torso_height)
+        t = percept.time
+        v = percept.vision
+        for name, pol in zip(v.landmark_names, v.landmarks):
+            o = self.objects.get(name)
+            if o is not None:
+                o.vision, o.last_seen, o.currently_seen = pol, t, True
+        if obs.ball is not None:
+            pos = self.to_field(obs.ball)
+            dist = float(np.hypot(obs.ball[0], obs.ball[1]))
+            self.ball_filter.update(pos[:2], BALL_SIGMA_NEAR + BALL_SIGMA_PER_M * dist, t)
+            b = self.ball
+            b.position, b.vision, b.last_seen, b.currently_seen, b.valid = pos, v.ball, t, True, True
+        if len(obs.players):
+            self._see_players(obs, t)
+        self._invalidate(obs)
+
+    def _see_players(self, obs: Observation, t: float) -> None:
+        pos = self.to_field(obs.players)
+        keys = obs.player_ours.astype(int) * 100 + obs.player_unum
+        for key in np.unique(keys):
+            sel = keys == key
+            ours, unum = key >= 100, int(key % 100)
+            if not 1 <= unum <= TEAM_SIZE or (ours and unum == self.unum):
+                continue
+            o = self.objects[f"{'T' if ours else 'O'}{unum}"]
+            parts = obs.player_part[sel]
+            p = pos[sel]
+            head = p[parts == _PART["head"]]
+            o.position = head[0].copy() if len(head) else p.mean(axis=0)
+            o.position[2] = max(0.0, o.position[2])
+            heading = math.nan
+            for left, right in (("llowerarm", "rlowerarm"), ("lfoot", "rfoot")):
+                lp, rp = p[parts == _PART[left]], p[parts == _PART[right]]
+                if len(lp) and len(rp):
+                    d = lp[0] - rp[0]
+                    heading = math.atan2(d[1], d[0]) - math.pi / 2
+                    break
+            if math.isfinite(heading):
+                o.heading = float(wrap(heading))
+            o.fallen = len(head) > 0 and head[0][2] < 0.25
+            o.vision = obs.players[sel][0]
+            o.last_seen, o.currently_seen, o.valid = t, True, True
+
+    def _invalidate(self, obs: Observation) -> None:
+        """Mark unseen ball and robots whose remembered place is in view as not valid."""
+        movable = [o for n, o in self.objects.items() if n not in self.landmark_positions
+                   and o.valid and not o.currently_seen and o.known]
+        if not movable:
+            return
+        pts = self.to_level(np.array([o.position for o in movable]))
+        cam = (pts - obs.camera_position) @ obs.camera_rotation  # camera frame
+        hor = np.arctan2(cam[:, 1], cam[:, 0])
+        ver = np.arctan2(cam[:, 2], np.hypot(cam[:, 0], cam[:, 1]))
+        inside = (np.abs(hor) < _HALF_CONE) & (np.abs(ver) < _HALF_CONE) & (cam[:, 0] > 0)
+        for o, hidden in zip(movable, inside):
+            if hidden:
+                o.valid = False
+
+    # ---------------------------------------------------------- communication
+
+    def _hear(self, percept: Percept) -> None:
+        self.heard = []
+        for h in percept.heard:
+            msg = comm.decode_heard(h)
+            if msg is None or msg.unum == self.unum:
+                continue
+            self.heard.append(msg)
+            t = msg.time
+            mate = self.teammate(msg.unum)
+            if not msg.not_localized and not mate.currently_seen:
+                mate.position = np.array([msg.x, msg.y, 0.0])
+                mate.heading, mate.valid = msg.heading, True
+            mate.last_heard = t
+            mate.fallen = msg.fallen
+            if msg.not_localized:
+                self.teammate_lost[msg.unum] = t
+            else:
+                self.teammate_lost.pop(msg.unum, None)
+            if msg.ball is not None and not self.ball.currently_seen and (
+                    percept.time - self.ball.last_seen > 0.5):
+                self.ball_filter.update(np.array(msg.ball), HEARD_BALL_SIGMA, percept.time)
+                self.ball.valid = True
+                self.ball.last_heard = t
+            for r in msg.teammates:
+                if r.unum == self.unum:
+                    if self.not_localized:
+                        self.localizer.reset_around(r.x, r.y, r.heading, sigma_xy=0.25, sigma_theta=0.3,
+                                                    fraction=0.5)
+                        self.relocalized_by_teammate = percept.time
+                    continue
+                o = self.teammate(r.unum)
+                if not o.currently_seen:
+                    o.position = np.array([r.x, r.y, 0.0])
+                    o.heading, o.last_heard, o.valid = r.heading, t, True
+            for r in msg.opponents:
+                o = self.opponent(r.unum)
+                if not o.currently_seen and t - o.last_seen > 0.5:
+                    o.position = np.array([r.x, r.y, 0.0])
+                    o.heading, o.last_heard, o.valid, o.fallen = r.heading, t, True, r.fallen
+
+    def message(self, robot_type: int | None = None, role_vote: tuple[int, ...] | None = None,
+                kick: comm.KickTarget | None = None) -> comm.TeamMessage:
+        """What this player would say now (Table 8.1), most important reports first: where
+        it sees teammates that said they are lost, then other teammates and opponents it
+        sees."""
+        x, y, h = self.pose
+        ball = None
+        if self.ball.currently_seen or self.time - self.ball.last_seen < 0.2:
+            bx, by = self.ball_filter.position
+            ball = (float(bx), float(by))
+        mates, opps = [], []
+        lost = sorted(self.teammate_lost, key=lambda u: -self.teammate_lost[u])
+        for u in lost + [u for u in range(1, TEAM_SIZE + 1) if u not in self.teammate_lost]:
+            o = self.teammate(u)
+            recent = self.time - o.last_seen < (0.5 if u in lost else PLAYER_MEMORY)
+            if u != self.unum and o.known and recent and math.isfinite(o.heading):
+                mates.append(comm.PlayerReport(u, float(o.position[0]), float(o.position[1]), o.heading))
+        for u in range(1, TEAM_SIZE + 1):
+            o = self.opponent(u)
+            if o.known and self.time - o.last_seen < PLAYER_MEMORY:
+                hd = o.heading if math.isfinite(o.heading) else 0.0
+                opps.append(comm.PlayerReport(u, float(o.position[0]), float(o.position[1]), hd, o.fallen))
+        return comm.TeamMessage(
+            unum=self.unum, x=float(x), y=float(y), heading=float(h), ball=ball, fallen=self.fallen,
+            not_localized=self.not_localized, role_vote=role_vote, kick=kick,
+            teammates=tuple(mates), opponents=tuple(opps), robot_type=robot_type, time=self.time)
+
+    def say(self, robot_type: int | None = None, **kwargs) -> str | None:
+        """The say text for this cycle if it is this player's time slot, else None."""
+        if not comm.may_speak(self.unum, self.time):
+            return None
+        return comm.encode(self.message(robot_type=robot_type, **kwargs))

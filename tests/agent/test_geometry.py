@@ -1,0 +1,100 @@
+"""The transform chain camera -> torso -> level -> field against MuJoCo's own poses."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from agent.geometry import camera_in_torso, field_to_team, from_polar, to_polar, wrap
+from agent.imu import TiltEstimator
+from agent.perception import observe
+from models.rules import PlayMode
+from models.scene import Lineup
+from server.match import Match
+
+from .helpers import place_standing
+
+
+def test_polar_round_trip():
+    rng = np.random.default_rng(0)
+    v = rng.normal(size=(50, 3)) * 5
+    np.testing.assert_allclose(from_polar(to_polar(v)), v, atol=1e-12)
+
+
+def test_wrap():
+    a = np.array([0.0, math.pi, -math.pi, 3 * math.pi, -7.0, 7.0])
+    w = wrap(a)
+    assert np.all(w >= -math.pi) and np.all(w < math.pi)
+    np.testing.assert_allclose(np.sin(w), np.sin(a), atol=1e-12)
+    np.testing.assert_allclose(np.cos(w), np.cos(a), atol=1e-12)
+
+
+def test_team_frame_by_side():
+    p = np.array([-15.0, 10.0, 0.0])  # F1L in the field frame
+    np.testing.assert_allclose(field_to_team(p, "L"), p)
+    np.testing.assert_allclose(field_to_team(p, "R"), [15.0, -10.0, 0.0])
+
+
+@pytest.mark.parametrize("yaw,pitch", [(0.0, 0.0), (1.2, 0.3), (-2.0, -0.7), (0.5, 0.78)])
+def test_camera_pose_matches_mujoco(yaw, pitch):
+    m = Match(lambda *a: None, lambda *a: None, Lineup((0,), (0,)))
+    w = m.world
+    q = np.zeros(len(w.players[0].joint_qpos))
+    q[0], q[1] = yaw, pitch
+    w.place_robot(0, 1.0, 2.0, 0.7, joints=q)
+    d = w.data
+    rt = d.xmat[w.players[0].torso].reshape(3, 3)
+    pt = d.xpos[w.players[0].torso]
+    rc = d.site_xmat[w.players[0].camera].reshape(3, 3)
+    pc = d.site_xpos[w.players[0].camera]
+    r, p = camera_in_torso(yaw, pitch)
+    np.testing.assert_allclose(r, rt.T @ rc, atol=1e-9)
+    np.testing.assert_allclose(p, rt.T @ (pc - pt), atol=1e-9)
+
+
+@pytest.mark.parametrize("side,heading,yaw,pitch", [("L", 0.3, 0.0, 0.0), ("L", -2.5, 1.0, -0.4),
+                                                     ("R", 2.0, -0.8, 0.3)])
+def test_known_object_lands_where_it_is(side, heading, yaw, pitch):
+    """A ball seen through a panned, tilted head on a standing robot, moved by the
+    estimated tilt and the true (x, y, heading) into the field, lands on the ball."""
+    from agent.posture import PostureAgent
+
+    m = Match(PostureAgent, PostureAgent, Lineup((0,), (0,)), seed=3)
+    while m.referee.mode == PlayMode.BEFORE_KICK_OFF:
+        m.step()
+    m.referee.set_play_mode(PlayMode.PLAY_ON)
+    i = 0 if side == "L" else 1
+    w = m.world
+    x, y = 4.0, -3.0
+    m.agents[i].target[0:2] = yaw, pitch  # hold the head there
+    place_standing(m, i, x, y, heading)
+    look = heading + yaw
+    w.place_ball((x + 2.0 * math.cos(look), y + 2.0 * math.sin(look)))
+    tilt = TiltEstimator()
+    for _ in range(60):  # 1.2 s: the head reaches its angles, the tilt estimate settles
+        tilt.update(m.percepts()[i].gyro, m.percepts()[i].accel, 0.02)
+        m.step()
+    while m.cycle % 3:
+        m.step()
+    pc = m.percepts()[i]
+    tilt.update(pc.gyro, pc.accel, 0.02)
+    assert pc.vision is not None and pc.vision.ball is not None
+    assert abs(pc.joints[0] - yaw) < 0.02 and abs(pc.joints[1] - pitch) < 0.02
+    obs = observe(pc.vision, pc.time, pc.joints[0], pc.joints[1], tilt.level)
+    # The level frame agrees with the torso's true roll and pitch.
+    rt = w.data.xmat[w.players[i].torso].reshape(3, 3)
+    th = math.atan2(rt[1, 0], rt[0, 0])
+    c, s = math.cos(th), math.sin(th)
+    rz = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    np.testing.assert_allclose(tilt.level, rz.T @ rt, atol=0.02)
+    # Torso (x, y, heading) and height from the simulator (truth).
+    tx, ty, tz = w.data.xpos[w.players[i].torso]
+    rel = obs.ball
+    est = np.array([tx + c * rel[0] - s * rel[1], ty + s * rel[0] + c * rel[1], tz + rel[2]])
+    true = w.ball_position()
+    # Noise: calibration +-5 mm per axis, 0.1 % of distance, 0.15 deg; tilt estimate.
+    assert np.linalg.norm(est - true) < 0.04
+    # The same in the team frame of the robot's side.
+    np.testing.assert_allclose(field_to_team(est, side), field_to_team(true, side), atol=0.04)

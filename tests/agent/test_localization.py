@@ -1,0 +1,103 @@
+"""The particle filter: likelihoods, odometry, and convergence on a standing robot in physics."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from agent.geometry import landmarks_in_team, lines_in_team
+from agent.localization import ParticleFilter
+
+from .helpers import perceiving_match, place_standing, pose_error, run
+
+
+def synthetic_view(pose, side="L", max_range=12.0):
+    """Exact level-frame observations of every landmark and field line from a pose."""
+    x, y, t = pose
+    c, s = math.cos(t), math.sin(t)
+
+    def rel(p):
+        d = np.asarray(p, dtype=float)[..., :2] - (x, y)
+        return np.stack([c * d[..., 0] + s * d[..., 1], -s * d[..., 0] + c * d[..., 1]], axis=-1)
+
+    lm = landmarks_in_team(side)
+    names = tuple(lm)
+    landmarks = rel(np.array([lm[n] for n in names]))
+    lines = rel(lines_in_team(side))
+    near = np.hypot(*lines.mean(axis=1).T) < max_range
+    return names, landmarks, lines[near]
+
+
+def test_likelihood_peaks_at_true_pose():
+    pf = ParticleFilter("L", seed=0)
+    true = np.array([-4.0, 2.5, 0.6])
+    names, lms, lines = synthetic_view(true)
+    offsets = np.array([[0, 0, 0], [0.3, 0, 0], [0, -0.3, 0], [0, 0, 0.1], [1.0, 1.0, -0.3], [8, -3, 2.0]])
+    cand = true + offsets
+    for args in ((names, lms, np.zeros((0, 2, 2))), ((), np.zeros((0, 2)), lines), (names, lms, lines)):
+        ll = pf.log_likelihood(cand, *args)
+        assert np.argmax(ll) == 0, ll
+
+
+def test_lines_alone_fix_the_pose_up_to_symmetry():
+    pf = ParticleFilter("L", seed=1)
+    true = np.array([-8.0, 3.0, -0.4])
+    _, _, lines = synthetic_view(true)
+    for _ in range(40):
+        pf.update((), np.zeros((0, 2)), lines)
+    est = pf.pose
+    mirror = np.array([-est[0], -est[1], est[2] + math.pi])  # the field looks the same turned 180 deg
+    err = min(np.hypot(*(est[:2] - true[:2])), np.hypot(*(mirror[:2] - true[:2])))
+    assert err < 0.2
+
+
+def test_predict_moves_in_the_torso_frame():
+    pf = ParticleFilter("L", seed=2)
+    pf.reset_around(1.0, 1.0, math.pi / 2, sigma_xy=1e-9, sigma_theta=1e-9)
+    pf.predict(0.1, 0.0, 0.2)
+    np.testing.assert_allclose(pf.pose, [1.0, 1.1, math.pi / 2 + 0.2], atol=1e-9)
+    np.testing.assert_allclose(pf.particles.mean(axis=0)[:2], [1.0, 1.1], atol=0.01)
+
+
+def test_nothing_seen_changes_nothing():
+    pf = ParticleFilter("R", seed=3)
+    before = pf.particles.copy()
+    assert not pf.update((), np.zeros((0, 3)), np.zeros((0, 2, 3)))
+    np.testing.assert_array_equal(before, pf.particles)
+
+
+def test_update_is_fast():
+    pf = ParticleFilter("L", seed=4)
+    names, lms, lines = synthetic_view(np.array([-3.0, 1.0, 0.3]))
+    pf.update(names[:4], lms[:4], lines)
+    t0 = time.thread_time()  # CPU time: other processes on a shared machine do not count
+    n = 50
+    for _ in range(n):
+        pf.update(names[:4], lms[:4], lines)
+    per = (time.thread_time() - t0) / n
+    assert per < 3e-3  # the benchmark holds the 1 ms goal; this only guards against regressions
+
+
+def test_converges_from_uniform_start_on_standing_robots():
+    m = perceiving_match(left=(0,), right=(0,), seed=5)
+    place_standing(m, 0, -6.0, 2.0, 0.8)
+    place_standing(m, 1, 5.0, -4.0, 2.2)  # the right team's robot: its own frame is turned
+    for a in m.agents:
+        a.world.localizer.reset_uniform()
+    run(m, 4.0)
+    for i in (0, 1):
+        d, h = pose_error(m, i)
+        assert d < 0.15 and h < math.radians(5), (i, d, math.degrees(h))
+
+
+def test_recovers_after_kidnap():
+    m = perceiving_match(left=(0,), right=(0,), seed=6)
+    place_standing(m, 0, -6.0, 2.0, 0.0)
+    run(m, 2.0)
+    assert pose_error(m, 0)[0] < 0.15
+    place_standing(m, 0, 3.0, -5.0, 2.5)  # the trainer moves it without telling
+    run(m, 5.0)
+    d, h = pose_error(m, 0)
+    assert d < 0.15 and h < math.radians(5), (d, math.degrees(h))

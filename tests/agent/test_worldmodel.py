@@ -1,0 +1,137 @@
+"""World model: objects placed on the field, validity, fall and lost flags, teammates' help."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from agent import comm
+from agent.head import FOCUS_SWING, PAN_LIMIT, HeadController, focus_pan, scan_pan
+from agent.imu import TiltEstimator
+from agent.worldmodel import NOT_LOCALIZED_AFTER, WorldModel
+from models.messages import HeardMessage, Percept
+
+from .helpers import perceiving_match, place_standing, run, true_pose_team
+
+
+def blind_percept(time: float, accel=(0.0, 0.0, 9.81), heard=()) -> Percept:
+    return Percept(time=time, game_time=time, play_mode="PlayOn", score_left=0, score_right=0, side="L",
+                   unum=2, robot_type=0, joints=np.zeros(22), gyro=np.zeros(3), accel=np.array(accel),
+                   foot_forces=np.zeros(2), heard=tuple(heard))
+
+
+def test_tilt_from_gravity():
+    for roll, pitch in ((0.0, 0.0), (0.2, -0.1), (-0.3, 0.4)):
+        g = 9.81 * np.array([-math.sin(pitch), math.cos(pitch) * math.sin(roll),
+                             math.cos(pitch) * math.cos(roll)])
+        t = TiltEstimator()
+        for _ in range(50):
+            t.update(np.zeros(3), g, 0.02)
+        assert abs(t.roll - roll) < 1e-3 and abs(t.pitch - pitch) < 1e-3
+        np.testing.assert_allclose(t.level @ (g / 9.81), [0.0, 0.0, 1.0], atol=1e-3)  # gravity is vertical
+
+
+def test_fall_flag_and_direction():
+    wm = WorldModel("L", 2)
+    for k in range(10):
+        wm.update(blind_percept(k * 0.02))
+    assert not wm.fallen
+    for k in range(10, 30):
+        wm.update(blind_percept(k * 0.02, accel=(-9.81, 0.0, 0.3)))  # lying on its face
+    assert wm.fallen and wm.tilt.fall_direction == "front"
+    for k in range(30, 50):
+        wm.update(blind_percept(k * 0.02, accel=(9.81, 0.0, 0.3)))
+    assert wm.fallen and wm.tilt.fall_direction == "back"
+
+
+def test_physics_world_model():
+    """Standing robots see each other and the ball where they are; lost after going blind."""
+    m = perceiving_match(left=(0, 0), right=(0,), seed=11, pan=False)
+    w = m.world
+    place_standing(m, 0, -6.0, 0.0, 0.0)
+    place_standing(m, 1, -3.0, 1.5, math.pi)  # a teammate, facing robot 0
+    place_standing(m, 2, -2.5, -2.0, 2.5)  # an opponent
+    w.place_ball((-4.5, -0.5))
+    run(m, 3.0)
+    wm = m.agents[0].world
+    assert not wm.not_localized and not wm.fallen
+    assert wm.ball.currently_seen or wm.ball.last_seen > w.time - 0.07
+    assert wm.ball.valid and np.hypot(*(wm.ball.position[:2] - w.ball_position()[:2])) < 0.1
+    mate, opp = wm.teammate(2), wm.opponent(1)
+    assert mate.valid and np.hypot(*(mate.position[:2] - true_pose_team(m, 1)[:2])) < 0.2
+    assert abs(math.remainder(mate.heading - math.pi, 2 * math.pi)) < 0.3
+    assert opp.valid and np.hypot(*(opp.position[:2] - np.array(w.player_pose(2)[:2]))) < 0.2
+    # The trainer moves the ball behind the robot: where it was is in view, empty.
+    w.place_ball((-8.0, 0.0))
+    run(m, 0.2)
+    assert not wm.ball.currently_seen and not wm.ball.valid
+    # Blind for longer than NOT_LOCALIZED_AFTER: no longer localized.
+    t = w.time
+    k = 0
+    while k * 0.02 <= NOT_LOCALIZED_AFTER + 0.1:
+        wm.update(blind_percept(t + k * 0.02))
+        k += 1
+    assert wm.not_localized
+
+
+def test_lost_teammate_is_told_where_it_is():
+    helper = WorldModel("L", 3, seed=1)
+    helper.localizer.reset_around(-5.0, 0.0, 0.0, sigma_xy=1e-6, sigma_theta=1e-6)
+    helper.time = 10.0
+    helper.last_fixed_seen = 10.0
+    lost = WorldModel("L", 2, seed=2)  # uniform particles, never saw anything
+    lost.update(blind_percept(9.96))
+    assert lost.not_localized
+    # The lost robot says so, the helper hears it ...
+    text = comm.encode(lost.message())
+    helper.update(blind_percept(9.98, heard=[HeardMessage(9.98, "ours", 0.0, text)]))
+    assert 2 in helper.teammate_lost
+    # ... sees it at (-3, 1) facing -x, and reports it first in its message.
+    mate = helper.teammate(2)
+    mate.position, mate.heading, mate.last_seen, mate.valid = np.array([-3.0, 1.0, 0.4]), math.pi, 9.98, True
+    helper.time = 10.0
+    msg = helper.message()
+    assert msg.teammates and msg.teammates[0].unum == 2
+    lost.update(blind_percept(10.02, heard=[HeardMessage(10.02, "ours", 0.0, comm.encode(msg))]))
+    est = lost.pose
+    assert np.hypot(est[0] + 3.0, est[1] - 1.0) < 0.3
+    assert abs(math.remainder(est[2] - math.pi, 2 * math.pi)) < 0.3
+
+
+def test_foreign_messages_leave_the_model_alone():
+    wm = WorldModel("L", 2)
+    junk = [HeardMessage(1.0, "ours", 0.0, "x" * 20), HeardMessage(1.0, "ours", 0.0, "garbage"),
+            HeardMessage(1.0, "theirs", 0.0, comm.encode(comm.TeamMessage(4, 1.0, 1.0, 0.0, time=0.98)))]
+    wm.update(blind_percept(1.0, heard=junk))
+    assert wm.heard == [] and not wm.teammate(4).known
+
+
+def test_head_scan_cycle_and_ball_focus():
+    keys = {0.0: 0.0, 2.0: PAN_LIMIT, 4.0: 0.0, 6.0: -PAN_LIMIT, 8.0: 0.0, 1.0: PAN_LIMIT / 2}
+    for t, pan in keys.items():
+        assert abs(scan_pan(t) - pan) < 1e-9
+    for t in np.linspace(0, 4, 41):
+        assert abs(focus_pan(t, 0.5) - 0.5) <= FOCUS_SWING + 1e-9
+    h = HeadController(goalie=False)
+    h.target(1.0, 0.3, 3.0)
+    assert not h.focusing
+    h.target(1.0, 0.3, 0.8)
+    assert h.focusing
+    g = HeadController(goalie=True)
+    g.target(1.0, 0.3, 10.0)
+    assert g.focusing
+
+
+def test_teammates_heard_but_not_seen():
+    """Two robots back to back (heads still) learn where the other is from its messages."""
+    m = perceiving_match(left=(0, 0), right=(0,), seed=12, pan=False)
+    place_standing(m, 0, -6.0, 0.0, 0.0)
+    place_standing(m, 1, -8.0, 1.0, math.pi)
+    t0 = m.world.time
+    run(m, 3.0)
+    for me, other in ((0, 1), (1, 0)):
+        wm = m.agents[me].world
+        mate = wm.teammate(other + 1)
+        assert mate.last_seen < t0 + 0.1 and mate.last_heard > m.world.time - 1.0
+        assert np.hypot(*(mate.position[:2] - true_pose_team(m, other)[:2])) < 0.15
