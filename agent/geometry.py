@@ -20,6 +20,7 @@ import math
 import numpy as np
 
 from models import field
+from skills.frames import rot_x, rot_y, rot_z  # noqa: F401  (re-exported for agent modules)
 
 TWO_PI = 2.0 * math.pi
 
@@ -48,24 +49,6 @@ def to_polar(xyz: np.ndarray) -> np.ndarray:
     x, y, z = xyz[..., 0], xyz[..., 1], xyz[..., 2]
     return np.stack([np.sqrt(x * x + y * y + z * z), np.arctan2(y, x),
                      np.arctan2(z, np.hypot(x, y))], axis=-1)
-
-
-def rot_z(a: float) -> np.ndarray:
-    """3x3 rotation by `a` (rad) about z."""
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def rot_y(a: float) -> np.ndarray:
-    """3x3 rotation by `a` (rad) about y (positive turns x toward -z)."""
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def rot_x(a: float) -> np.ndarray:
-    """3x3 rotation by `a` (rad) about x."""
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
 def camera_in_torso(neck_yaw: float, head_pitch: float) -> tuple[np.ndarray, np.ndarray]:

@@ -2,7 +2,7 @@
 
 The camera sits on a head that pans (hj1) and tilts (hj2) on the torso, which
 itself leans. Every vision frame is therefore moved, with the head joint angles
-read in the same percept and the torso tilt from `agent.imu`, into the *level*
+read in the same percept and the torso tilt from `skills.imu`, into the *level*
 frame (torso origin and yaw, z vertical; see `agent.geometry`). From there the
 localizer turns 2D positions into the team frame with the pose estimate.
 """

@@ -25,11 +25,11 @@ import numpy as np
 from agent import comm
 from agent.ballfilter import BallFilter
 from agent.geometry import landmarks_in_team, wrap
-from agent.imu import TiltEstimator
 from agent.localization import LocalizationParams, ParticleFilter
 from agent.perception import Observation, observe
 from models.messages import SEEN_PARTS, Percept
 from models.rules import CYCLE, TEAM_SIZE, VIEW_CONE
+from skills.imu import TiltEstimator
 
 NOT_LOCALIZED_AFTER = 3.0  # s without a landmark or line before the robot calls itself lost
 LOST_SPREAD = 1.0  # m of particle spread that also counts as lost
@@ -95,7 +95,7 @@ class WorldModel:
 
     @property
     def fallen(self) -> bool:
-        """True while the accelerometer says the torso lies (see `agent.imu`)."""
+        """True while the accelerometer says the torso lies (see `skills.imu`)."""
         return self.tilt.fallen
 
     @property

@@ -10,45 +10,16 @@ fast motions are followed without lag.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-
 import numpy as np
 
 from models import nao
 from models.messages import Percept
 from models.rules import CYCLE
 from skills.control import JointPid, PidGains
+from skills.imu import TiltEstimator
 from skills.walk import WalkEngine, WalkOutput
 
 HEAD = ("hj1", "hj2")
-
-
-@dataclass
-class TiltEstimator:
-    """Torso pitch (forward positive) and roll (right side down positive) in rad.
-
-    A complementary filter: the gyro (rad/s, torso frame) integrates fast
-    changes, the accelerometer's gravity direction corrects the drift.
-    """
-
-    gain: float = 0.05  # weight of the accelerometer's angle per cycle
-    pitch: float = 0.0
-    roll: float = 0.0
-
-    def update(self, accel: np.ndarray, gyro: np.ndarray, dt: float = CYCLE) -> tuple[float, float]:
-        ax, ay, az = (float(a) for a in accel)
-        # Upright and still the specific force is +g on z; pitching forward tips it onto -x.
-        acc_pitch = math.atan2(-ax, math.hypot(ay, az))
-        acc_roll = math.atan2(ay, az)
-        self.pitch += float(gyro[1]) * dt
-        self.roll += float(gyro[0]) * dt
-        self.pitch += self.gain * (acc_pitch - self.pitch)
-        self.roll += self.gain * (acc_roll - self.roll)
-        return self.pitch, self.roll
-
-    def reset(self) -> None:
-        self.pitch = self.roll = 0.0
 
 
 class Motion:
@@ -70,12 +41,13 @@ class Motion:
         """After a beam, a getup or anything that moved the body by other means."""
         self.walk.reset()
         self.pid.reset()
-        self.tilt.reset()
+        self.tilt = TiltEstimator()
         self._prev_target = None
 
     def sense(self, percept: Percept) -> tuple[float, float]:
         """Update the tilt estimate from the percept; returns (pitch, roll) in rad."""
-        return self.tilt.update(percept.accel, percept.gyro)
+        self.tilt.update(percept.gyro, percept.accel, CYCLE)
+        return self.tilt.pitch, self.tilt.roll
 
     def command(self, target: np.ndarray, percept: Percept) -> np.ndarray:
         """Joint velocities (rad/s) toward `target` angles (rad, league order; NaN = hold)."""

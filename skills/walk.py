@@ -12,7 +12,8 @@ then stands.
 
 Frames: foot targets are ankle positions and foot orientations in the torso
 frame (x forward, y left, z up; m, rad). Odometry is the torso's motion over
-the ground in its own frame since the previous call (m, m, rad).
+the ground in its own frame since the previous call (m, m, rad); its turn is the
+gyro's when the caller passes the gyro.
 
 Phase bookkeeping follows the dissertation: the phase phi runs from phi_start
 to phi_end (initially -0.5 .. 0.5) at 1/phase_length per second; at the end the
@@ -57,7 +58,8 @@ WALK_SCHEMA: dict[str, str] = {
     "arm_pitch": "rad", "arm_roll": "rad",
     # Additions to UT's set: gyro damping of the ankles (rad of foot turn per rad/s)
     # and the joint controller's proportional gain (1/s) the walk is tuned with.
-    "gyro_pitch": "1", "gyro_roll": "1", "joint_kp": "1",
+    "gyro_pitch": "1", "gyro_roll": "1", "joint_kp": "1", "heading_gain": "1",
+    "backward_factor": "1",
     # The forward swing's sigmoid steepness (UT: 10); lower is gentler on the motors.
     "swing_steepness": "1",
 }
@@ -111,6 +113,8 @@ class WalkParams:
     gyro_pitch: float = 0.0
     gyro_roll: float = 0.0
     joint_kp: float = 15.0
+    heading_gain: float = 0.0
+    backward_factor: float = 0.5
     swing_steepness: float = 10.0
 
     @classmethod
@@ -195,6 +199,9 @@ class WalkEngine:
         self.step_factor = 1.0
         self.expected_com: np.ndarray | None = None
         self.gyro = np.zeros(3)
+        self.heading_error = 0.0  # rad turned beyond the requested turn while walking
+        self.turn_step = 0.0  # rad per phase the feet turn, with the heading correction
+        self.latched = (0.0, 0.0)  # side step (m) and turn (rad) of the current step
         self.prev_end = {s: np.zeros(3) for s in "lr"}  # (x, y, yaw) offsets where each foot landed
 
     # ---------------------------------------------------------------- the cycle
@@ -213,6 +220,8 @@ class WalkEngine:
         p = self.params = self.sets[set_name]
         desired = np.clip([x, y, turn], -1.0, 1.0) * [p.max_step_size_x, p.max_step_size_y,
                                                        p.max_step_size_angle]
+        if desired[0] < 0:  # backward steps are shorter (the feet land toe first otherwise)
+            desired[0] *= p.backward_factor
         moving = bool(np.any(np.abs(desired) > 1e-9))
         self.stop_time = 0.0 if moving else self.stop_time + self.dt
         # Proportional step-size filter, clamped at the maximum steps.
@@ -235,20 +244,32 @@ class WalkEngine:
         standing = not moving and self.stop_time >= STOP_JOG_TIME
         if standing:
             self.walking = False
+            self.heading_error = 0.0
+            self.turn_step = 0.0
             self.phi = self.phi_start
             self.step[:] = 0.0
             targets = self._targets(standing=True)
             return WalkOutput(targets, (0.0, 0.0, 0.0), True)
+        new_phase = not self.walking
         self.walking = True
-        span = self.phi_end - self.phi_start
         self.phi += self.dt / p.phase_length
         if self.phi >= self.phi_end:
             self._swap()
-            span = self.phi_end - self.phi_start
-        targets = self._targets(standing=False)
+            new_phase = True
+        span = self.phi_end - self.phi_start
         # The torso moves one step per phase over the ground.
         frac = self.dt / (p.phase_length * span)
-        odo = (self.step[0] * frac, self._side_rate() * frac, self._turn_rate() * frac)
+        # Heading hold: the gyro measures how far the torso turned beyond (or short of)
+        # the requested turn; the feet turn against that error (heading_gain per phase).
+        turned = self.gyro[2] * self.dt if gyro is not None else self.turn_step * frac
+        self.heading_error += turned - self.step[2] * frac
+        limit = p.max_step_size_angle
+        wanted_turn = float(np.clip(self.step[2] - p.heading_gain * self.heading_error, -limit, limit))
+        if new_phase:  # side step and turn are fixed for a whole step, so no foot changes lead
+            self.latched = (float(self.step[1]), wanted_turn)
+        self.turn_step = self.latched[1]
+        targets = self._targets(standing=False)
+        odo = (self.step[0] * frac, self.latched[0] * frac, turned)
         return WalkOutput(targets, odo, False)
 
     def _swap(self) -> None:
@@ -261,14 +282,6 @@ class WalkEngine:
         self.phi = self.phi_start
         self.swing = "r" if self.swing == "l" else "l"
 
-    def _side_rate(self) -> float:
-        """Side motion of the torso per phase (m): only phases led by the foot on the
-        side of motion move the body; the other foot then closes up."""
-        return self.step[1]
-
-    def _turn_rate(self) -> float:
-        return self.step[2]
-
     # -------------------------------------------------------------- foot targets
 
     def foot_targets(self, standing: bool = False) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -277,8 +290,10 @@ class WalkEngine:
         t = 0.0 if standing else (self.phi - self.phi_start) / (self.phi_end - self.phi_start)
         t = min(max(t, 0.0), 1.0)
         k = math.sqrt(G / p.walk_height)
-        fs, fm, fg, fa = p.fraction_still, p.fraction_moving, p.fraction_on_ground, p.fraction_in_air
-        sx, sy, sth = (0.0, 0.0, 0.0) if standing else self.step
+        # A swing (and a lift) must end within its step, whatever the fractions say.
+        fs, fg = min(p.fraction_still, 0.9), min(p.fraction_on_ground, 0.9)
+        fm, fa = min(p.fraction_moving, 1.0 - fs), min(p.fraction_in_air, 1.0 - fg)
+        sx, sy, sth = (0.0, 0.0, 0.0) if standing else (self.step[0], *self.latched)
         swing, stance = self.swing, ("r" if self.swing == "l" else "l")
         sign = {"l": 1.0, "r": -1.0}
         # Lift: cosine during the in-air fraction.
@@ -315,13 +330,14 @@ class WalkEngine:
         a = abs(sy)
         swing_out = a * yfrac if swing == lead else a * (1.0 - yfrac)
         stance_out = a * (1.0 - t) if stance == lead else a * t
-        # Turning: the groin opens by the same rule (the hip yaw-pitch joints only toe out).
+        # Turning: the groin turns the feet by the same rule. The league's hip yaw-pitch
+        # (-90..1 deg) only turns a foot's toes in, so a left turn is led by the right foot.
         groin = 0.0
         if t >= fs + fm:
             groin = abs(sth)
         elif t >= fs:
             groin = 0.5 * abs(sth) * (1 - math.cos(math.pi * (t - fs) / fm))
-        tlead = "l" if sth > 0 else "r"
+        tlead = "r" if sth > 0 else "l"
         swing_yaw = groin if swing == tlead else abs(sth) - groin
         stance_yaw = abs(sth) * (1.0 - t) if stance == tlead else abs(sth) * t
         out = {}
@@ -332,7 +348,7 @@ class WalkEngine:
             hip = self.hip[side]
             pos = np.array([hip[0] + xo + dx, sign[side] * (yo + out_y), hip[2] - p.walk_height + z])
             rpy = np.array([p.pid_roll * self.roll + p.gyro_roll * self.gyro[0],
-                            p.pid_tilt * self.tilt + p.gyro_pitch * self.gyro[1], sign[side] * yaw])
+                            p.pid_tilt * self.tilt + p.gyro_pitch * self.gyro[1], -sign[side] * yaw])
             if side == swing and not standing:
                 rpy[1] += p.swing_ankle_offset * zfrac
             out[side] = (pos, rpy)

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from agent.geometry import camera_in_torso, field_to_team, from_polar, to_polar, wrap
-from agent.imu import TiltEstimator
 from agent.perception import observe
 from models.rules import PlayMode
 from models.scene import Lineup
 from server.match import Match
+from skills.imu import TiltEstimator
 
 from .helpers import place_standing
 

@@ -8,9 +8,9 @@ import numpy as np
 
 from agent import comm
 from agent.head import FOCUS_SWING, PAN_LIMIT, HeadController, focus_pan, scan_pan
-from agent.imu import TiltEstimator
 from agent.worldmodel import NOT_LOCALIZED_AFTER, WorldModel
 from models.messages import HeardMessage, Percept
+from skills.imu import TiltEstimator
 
 from .helpers import perceiving_match, place_standing, run, true_pose_team
 

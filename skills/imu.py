@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from agent.geometry import rot_x, rot_y
+from skills.frames import rot_x, rot_y
 
 GRAVITY = 9.81  # m/s^2
 
