@@ -1,7 +1,7 @@
 """Walking to a target: walk-engine inputs from where the target lies, and dead reckoning.
 
 `walk_toward` is the go-to-target rule of section 8.2.5: face the target while
-far from it (rotation speed = heading error in degrees / 180), walk in its
+far from it (rotation speed = turn_gain x heading error in degrees / 180), walk in its
 direction as fast as the set allows (`direction_to_xy`), slow down inside a
 braking radius, and turn to the wanted final heading when close. `Odometry`
 integrates the walk engine's odometry into a pose in the field frame for an
@@ -22,7 +22,8 @@ def wrap(a: float) -> float:
 
 
 def walk_toward(dx: float, dy: float, dheading: float | None, params: WalkParams,
-                brake: float = 0.5, face_beyond: float = 0.6) -> tuple[float, float, float]:
+                brake: float = 0.5, face_beyond: float = 0.6, turn_gain: float = 1.0
+                ) -> tuple[float, float, float]:
     """Walk inputs (x, y, turn) in [-1, 1] toward a target at (dx, dy) (m, torso frame).
 
     dheading: the wanted final heading relative to the current one (rad), or
@@ -35,7 +36,7 @@ def walk_toward(dx: float, dy: float, dheading: float | None, params: WalkParams
         turn_to = direction if dist > 0.05 else (dheading or 0.0)
     else:
         turn_to = dheading
-    turn = max(-1.0, min(1.0, math.degrees(turn_to) / 180.0 * 4.0))
+    turn = max(-1.0, min(1.0, turn_gain * math.degrees(turn_to) / 180.0))
     x, y = direction_to_xy(direction, params.max_step_size_x, params.max_step_size_y)
     speed = min(1.0, dist / brake)
     # While facing far away from the direction of travel, turn first and walk slowly.

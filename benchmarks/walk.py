@@ -1,0 +1,156 @@
+"""Walk benchmark: speeds, falls on a go-to-target course, per robot type.
+
+In physics, from standing, the robot's control reads only its percepts
+(`skills.motion.Motion`); the benchmark reads ground truth to measure. One
+JSON line per robot type:
+
+* forward, backward, sideways speed (m/s) and turning rate (deg/s) over 10 s;
+* the go-to-target course (waypoints and stops modeled on Figure A.1: long
+  straight walks, a curve, quick direction changes, stop and go, a spiral),
+  walked by dead reckoning on the walk's own odometry: falls, time, how far
+  the dead-reckoned pose drifted from the truth;
+* getup success and time when the getup benchmark is available.
+
+Goals for the hand-tuned defaults (issue 3): forward >= 0.3 m/s, sideways
+>= 0.15 m/s, turning >= 60 deg/s, no falls on the course.
+
+    python -m benchmarks.walk [--types 0,1,2,3,4] [--seconds 10]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+
+import numpy as np
+
+from benchmarks.machine import machine
+from models.messages import Action
+from models.scene import Lineup
+from server.trainer import Trainer
+from skills.motion import Motion
+from skills.navigate import Odometry, walk_toward, wrap
+
+# (x, y, stop seconds) relative to the start, facing +x; stops of 0 are pass-through.
+COURSE = [
+    (4.0, 0.0, 0.0), (4.0, 2.0, 1.0), (1.0, 2.5, 0.0), (0.0, 0.5, 0.0), (2.0, -1.0, 1.5),
+    (3.0, 0.0, 0.0), (2.0, 1.0, 0.0), (1.0, 0.0, 0.0), (2.0, -1.0, 0.0), (3.0, 0.0, 1.0),
+    (1.5, 0.0, 0.0), (0.0, 0.0, 1.0),
+]
+REACHED = 0.2  # m
+
+
+def new_robot(t: int) -> tuple[Trainer, Motion]:
+    tr = Trainer(Lineup((t,), ()), vision=False)
+    mo = Motion(t)
+    q0 = mo.walk.update(0.0, 0.0, 0.0).targets
+    mo.reset()
+    tr.world.place_robot(0, 0.0, 0.0, 0.0, joints=np.where(np.isnan(q0), 0.0, q0))
+    tr.world.settle_height(0)
+    return tr, mo
+
+
+def fallen(tr: Trainer) -> bool:
+    return bool(tr.world.torso_up()[0] < 0.5)
+
+
+def constant_walk(t: int, cmd: tuple[float, float, float], seconds: float) -> dict:
+    """Walk with fixed inputs; speed along x, y (m/s) and turning (deg/s) in the start frame."""
+    tr, mo = new_robot(t)
+    for _ in range(25):  # stand 0.5 s
+        tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0))})
+    x0, y0, h0 = tr.world.player_pose(0)
+    heading_total = 0.0
+    prev = h0
+    n = round(seconds / 0.02)
+    for k in range(n):
+        tr.step({0: Action(mo.walk_step(tr.percepts()[0], *cmd))})
+        h = tr.world.player_pose(0)[2]
+        heading_total += wrap(h - prev)
+        prev = h
+        if fallen(tr):
+            n = k + 1
+            break
+    x, y, _ = tr.world.player_pose(0)
+    dt = n * 0.02
+    return {"vx": (x - x0) / dt, "vy": (y - y0) / dt, "turn_deg_s": math.degrees(heading_total) / dt,
+            "fell": fallen(tr), "seconds": round(dt, 2)}
+
+
+def course(t: int, limit: float = 240.0) -> dict:
+    """Walk the course by dead reckoning; a fall is counted and the trainer stands the
+    robot up where it lies (the getup skills are benchmarked on their own)."""
+    tr, mo = new_robot(t)
+    odo = Odometry()
+    falls, k, stop_left, cycles = 0, 0, None, 0
+    while k < len(COURSE) and cycles * 0.02 < limit:
+        tx, ty, stop = COURSE[k]
+        pc = tr.percepts()[0]
+        dx, dy = odo.relative(tx, ty)
+        if stop_left is not None:
+            cmd = (0.0, 0.0, 0.0)
+            stop_left -= 0.02
+            if stop_left <= 0:
+                stop_left, k = None, k + 1
+        elif math.hypot(dx, dy) < REACHED:
+            if stop > 0:
+                stop_left = stop
+            else:
+                k += 1
+            cmd = (0.0, 0.0, 0.0) if stop > 0 else walk_toward(dx, dy, None, mo.walk.params)
+        else:
+            cmd = walk_toward(dx, dy, None, mo.walk.params)
+        v = mo.walk_step(pc, *cmd)
+        if mo.last is not None:
+            odo.update(*mo.last.odometry)
+        tr.step({0: Action(v)})
+        cycles += 1
+        if fallen(tr):
+            falls += 1
+            x, y, h = tr.world.player_pose(0)
+            q0 = mo.walk.update(0.0, 0.0, 0.0).targets
+            mo.reset()
+            tr.world.place_robot(0, x, y, h, joints=np.where(np.isnan(q0), 0.0, q0))
+            tr.world.settle_height(0)
+    x, y, h = tr.world.player_pose(0)
+    return {"waypoints": len(COURSE), "reached": k, "falls": falls, "seconds": round(cycles * 0.02, 1),
+            "odometry_error_m": round(math.hypot(x - odo.x, y - odo.y), 3),
+            "odometry_heading_error_deg": round(abs(math.degrees(wrap(h - odo.heading))), 1)}
+
+
+def getups(t: int, tries: int) -> dict | None:
+    try:
+        from benchmarks.getup import getup_stats
+    except ImportError:
+        return None
+    return getup_stats(t, tries)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--types", default="0,1,2,3,4")
+    ap.add_argument("--seconds", type=float, default=10.0)
+    ap.add_argument("--getup-tries", type=int, default=20)
+    args = ap.parse_args()
+    info = machine()
+    for t in (int(v) for v in args.types.split(",")):
+        start = time.perf_counter()
+        fwd = constant_walk(t, (1.0, 0.0, 0.0), args.seconds)
+        back = constant_walk(t, (-1.0, 0.0, 0.0), args.seconds)
+        side = constant_walk(t, (0.0, 1.0, 0.0), args.seconds)
+        turn = constant_walk(t, (0.0, 0.0, 1.0), args.seconds)
+        row = {
+            "benchmark": "walk", "type": t,
+            "forward_m_s": round(fwd["vx"], 3), "backward_m_s": round(-back["vx"], 3),
+            "sideways_m_s": round(side["vy"], 3), "turn_deg_s": round(turn["turn_deg_s"], 1),
+            "falls_in_speed_runs": sum(r["fell"] for r in (fwd, back, side, turn)),
+            "course": course(t), "getup": getups(t, args.getup_tries),
+            "wall_seconds": round(time.perf_counter() - start, 1), "machine": info,
+        }
+        print(json.dumps(row), flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,60 @@
+"""The walk in physics: the robot's control reads only its percepts; the test reads truth."""
+
+import math
+
+import numpy as np
+import pytest
+
+from benchmarks.walk import new_robot
+from models.messages import Action
+from skills.navigate import Odometry, walk_toward, wrap
+
+
+def walk(t, seconds, command):
+    """Stand 0.5 s, then walk; returns the trainer, the robot's odometry and whether it fell."""
+    tr, mo = new_robot(t)
+    odo = Odometry()
+    fell = False
+    for k in range(round((seconds + 0.5) / 0.02)):
+        pc = tr.percepts()[0]
+        cmd = (0.0, 0.0, 0.0) if k < 25 else command(odo, mo)
+        v = mo.walk_step(pc, *cmd)
+        odo.update(*mo.last.odometry)
+        tr.step({0: Action(v)})
+        if tr.world.torso_up()[0] < 0.5:
+            fell = True
+            break
+    return tr, odo, fell
+
+
+@pytest.mark.parametrize("t", [0, 4])
+def test_walks_3_m_forward_without_falling(t):
+    # Head for a point 4 m ahead by the robot's own odometry (which drifts), and
+    # measure in truth: at least 3 m along the start heading, upright all the way.
+    target = (4.0, 0.0)
+
+    def command(odo, mo):
+        dx, dy = odo.relative(*target)
+        return walk_toward(dx, dy, None, mo.walk.params) if math.hypot(dx, dy) > 0.1 else (0, 0, 0)
+
+    tr, _, fell = walk(t, 30.0, command)
+    x, y, _ = tr.world.player_pose(0)
+    assert not fell
+    assert x >= 3.0, (x, y)
+
+
+def test_turns_90_degrees_in_place():
+    done = []
+
+    def command(odo, mo):  # turn until the odometry says 90 deg, then stand
+        err = wrap(math.pi / 2 - odo.heading)
+        if done or abs(err) < 0.05:
+            done.append(True)
+            return (0.0, 0.0, 0.0)
+        return (0.0, 0.0, float(np.clip(4 * err / math.pi, -1, 1)))
+
+    tr, odo, fell = walk(0, 8.0, command)
+    x, y, h = tr.world.player_pose(0)
+    assert not fell
+    assert abs(math.degrees(wrap(h - math.pi / 2))) < 20.0  # truth within 20 deg of odometry's 90
+    assert math.hypot(x, y) < 0.3  # in place
