@@ -63,6 +63,7 @@ class Motion:
                   set_name: str = "go_to_target", head: np.ndarray | None = None) -> np.ndarray:
         """Joint velocities for one walk cycle; `head` angles (hj1, hj2) if given."""
         pitch, roll = self.sense(percept)
+        self.pid.kp[:] = self.walk.sets[set_name].joint_kp if set_name in self.walk.sets else self.pid.kp
         out = self.walk.update(x, y, turn, set_name, tilt=pitch, roll=roll, gyro=percept.gyro,
                                joints=percept.joints)
         self.last = out
