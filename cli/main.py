@@ -1,5 +1,5 @@
-"""The `soccer` command: matches, models and scenes (and, as they land, batches,
-optimization jobs and rendering)."""
+"""The `soccer` command: matches, robot models and scenes, rendering and
+replay of match logs, and CMA-ES optimization jobs."""
 
 from __future__ import annotations
 
