@@ -12,16 +12,18 @@ from skills.walk import default_param_files, load_walk_sets
 
 def test_vector_maps_to_named_values_in_file_units():
     base = load_values(["go_to_target", "sprint"], 0)
-    assert base["go_to_target"]["walk_height"] == pytest.approx(175.0)  # mm, as the file writes it
+    height_m = load_walk_sets(default_param_files(0))["go_to_target"].walk_height
+    height = 1000.0 * height_m  # mm, as the file writes it
+    assert base["go_to_target"]["walk_height"] == pytest.approx(height)
     space = ParamSpace.build(base, {"sprint": ("walk_height", "phase_length")})
     assert space.keys == (("sprint", "walk_height"), ("sprint", "phase_length"))
     v = space.values(np.array([1.0, -1.0]))
     spec_h, spec_p = param_set("sprint").spec("walk_height"), param_set("sprint").spec("phase_length")
-    assert v["sprint"]["walk_height"] == pytest.approx(175.0 + spec_h.sigma)
+    assert v["sprint"]["walk_height"] == pytest.approx(height + spec_h.sigma)
     assert v["sprint"]["phase_length"] == pytest.approx(base["sprint"]["phase_length"] - spec_p.sigma)
     assert v["go_to_target"] == base["go_to_target"]  # frozen set untouched
-    assert space.named(np.zeros(2)) == {"sprint_walk_height": 175.0,
-                                        "sprint_phase_length": base["sprint"]["phase_length"]}
+    assert space.named(np.zeros(2)) == pytest.approx({"sprint_walk_height": height,
+                                                      "sprint_phase_length": base["sprint"]["phase_length"]})
 
 
 @settings(max_examples=30, deadline=None)
