@@ -15,20 +15,10 @@ import time
 import numpy as np
 import pinocchio as pin
 
+from benchmarks.machine import cpu_model
 from skills.frames import matrix_to_rpy
 from skills.ik import LegIK
 from skills.kinematics import RobotKinematics
-
-
-def cpu_model() -> str:
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def per_call_us(fn, args_list, repeat: int = 3) -> float:

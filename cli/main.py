@@ -111,15 +111,8 @@ def _plugins() -> list:
 
 
 def _write_text(path: Path, text: str) -> None:
-    import os
-    import tempfile
-
-    from server.match import write_json  # noqa: F401  (keeps one atomic-write idiom)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    with os.fdopen(fd, "w") as fh:
-        fh.write(text)
-    os.replace(tmp, path)
+    from server.files import write_text
+    write_text(path, text)
 
 
 def cmd_match(args: argparse.Namespace) -> int:

@@ -21,12 +21,12 @@ set's loader reads (for walk sets, `skills.walk.load_walk_sets`).
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from server.files import write_bytes
 from skills.params import UNITS, ParamError, PathLike, read_entries
 from skills.walk import WALK_SCHEMA, WALK_SETS, default_param_files
 
@@ -255,11 +255,5 @@ def atomic_write_text(path: PathLike, text: str) -> None:
 
 
 def atomic_write_bytes(path: PathLike, data: bytes) -> None:
-    """Write to a temporary file beside `path`, flush it to disk, then rename it over `path`."""
-    path = os.fspath(path)
-    tmp = f"{path}.tmp{os.getpid()}"
-    with open(tmp, "wb") as fh:
-        fh.write(data)
-        fh.flush()
-        os.fsync(fh.fileno())
-    os.replace(tmp, path)
+    """Write `data` beside `path`, flush it to disk, then rename it over `path`."""
+    write_bytes(path, data, fsync=True)

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import os
-import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -21,6 +20,7 @@ import numpy as np
 from models import field
 from replay.gl import OffscreenRenderer, RenderError
 from replay.poses import Replay
+from server.files import atomic_path
 
 CAMERAS = ("broadcast", "top", "ball", "follow:PLAYER")
 VIDEO_SUFFIXES = (".mp4", ".mkv", ".mov")
@@ -207,18 +207,10 @@ def open_writer(out: Path, fps: float, size: tuple[int, int]) -> Iterator:
         return
     if kind == "png":
         raise ValueError(f"{out}: one .png is a picture (give --at); for PNG frames give a directory")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(dir=out.parent, prefix=f".{out.stem}.", suffix=f".tmp{out.suffix}")
-    os.close(fd)
-    tmp = Path(name)
-    try:
+    with atomic_path(out) as tmp:
         w = _Mp4Writer(tmp, fps, size) if kind == "video" else _GifWriter(tmp, fps)
         yield w
         w.close()
-        _publish(tmp, out)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
 
 
 # --------------------------------------------------------------------- rendering
@@ -285,22 +277,7 @@ def render_still(replay: Replay, out: str | os.PathLike, at: float, camera: str 
     return i
 
 
-def _publish(tmp: Path, out: Path) -> None:
-    """Give a finished temporary file the usual permissions and rename it over `out`."""
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)
-    os.replace(tmp, out)
-
-
 def _save_png(image, out: Path) -> None:
     """Save a PIL image as PNG atomically."""
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(dir=out.parent, prefix=f".{out.stem}.", suffix=".tmp.png")
-    os.close(fd)
-    try:
-        image.save(name, format="PNG")
-        _publish(Path(name), out)
-    finally:
-        if os.path.exists(name):
-            os.unlink(name)
+    with atomic_path(out) as tmp:
+        image.save(tmp, format="PNG")

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from models.rules import PLAY_MODES
+from server.files import atomic_path
 
 LOG_VERSION = 2
 QPOS_STEP = 1e-5  # m or rad per quantum of the stored qpos
@@ -102,22 +102,12 @@ class LogRecorder:
 
 def write_log(log: MatchLog, path: str | os.PathLike) -> None:
     """Write `log` to `path` (.npz, compressed) atomically."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez_compressed(
-                fh, version=np.array(LOG_VERSION), xml=np.array(log.xml),
-                players=np.array(log.players), time=log.time, game_time=log.game_time,
-                qpos_delta=encode_qpos(log.qpos), play_mode=log.play_mode, score=log.score,
-                targets=log.targets,
-                events=np.array(json.dumps(log.events)))
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
+        np.savez_compressed(
+            fh, version=np.array(LOG_VERSION), xml=np.array(log.xml),
+            players=np.array(log.players), time=log.time, game_time=log.game_time,
+            qpos_delta=encode_qpos(log.qpos), play_mode=log.play_mode, score=log.score,
+            targets=log.targets, events=np.array(json.dumps(log.events)))
 
 
 def read_log(path: str | os.PathLike) -> MatchLog:

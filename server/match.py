@@ -12,11 +12,9 @@ import logging
 import math
 import os
 import sys
-import tempfile
 import time as wallclock
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Protocol
 
 import numpy as np
@@ -32,6 +30,7 @@ from models.rules import (
     PlayMode,
 )
 from models.scene import Lineup
+from server import files
 from server.hearing import Hearing, say_error
 from server.log import LogRecorder, MatchLog
 from server.referee import Referee
@@ -89,18 +88,8 @@ class MatchResult:
 
 
 def write_text(text: str, path: str | os.PathLike) -> None:
-    """Write a text file atomically (a temporary file renamed over the target)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write a text file atomically."""
+    files.write_text(path, text)
 
 
 def write_json(obj: dict, path: str | os.PathLike) -> None:

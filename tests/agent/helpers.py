@@ -7,10 +7,10 @@ import math
 import numpy as np
 
 from agent.perceiving import PerceivingAgent
-from agent.posture import stand_pose
 from models.rules import PlayMode
 from models.scene import Lineup
 from server.match import Match
+from tests.server.helpers import place_standing, run  # noqa: F401  (shared with the server tests)
 
 
 def perceiving_match(left=(0,), right=(0,), seed=0, **agent_kwargs) -> Match:
@@ -22,18 +22,6 @@ def perceiving_match(left=(0,), right=(0,), seed=0, **agent_kwargs) -> Match:
         m.step()
     m.referee.set_play_mode(PlayMode.PLAY_ON)
     return m
-
-
-def place_standing(m: Match, i: int, x: float, y: float, heading: float) -> None:
-    """Trainer: put player i in the stand pose at (x, y, heading), field frame."""
-    t = m.world.players[i].robot_type
-    m.world.place_robot(i, x, y, heading, joints=stand_pose(t))
-    m.world.settle_height(i)
-
-
-def run(m: Match, seconds: float) -> None:
-    for _ in range(int(round(seconds / 0.02))):
-        m.step()
 
 
 def true_pose_team(m: Match, i: int) -> np.ndarray:
