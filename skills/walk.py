@@ -349,8 +349,8 @@ class WalkEngine:
             pos = np.array([hip[0] + xo + dx, sign[side] * (yo + out_y), hip[2] - p.walk_height + z])
             rpy = np.array([p.pid_roll * self.roll + p.gyro_roll * self.gyro[0],
                             p.pid_tilt * self.tilt + p.gyro_pitch * self.gyro[1], -sign[side] * yaw])
-            if side == swing and not standing:
-                rpy[1] += p.swing_ankle_offset * zfrac
+            if side == swing and not standing:  # toes up stepping forward, down stepping back
+                rpy[1] += p.swing_ankle_offset * zfrac * (1.0 if sx >= 0 else -1.0)
             out[side] = (pos, rpy)
         return out
 
