@@ -39,8 +39,10 @@ def walk_toward(dx: float, dy: float, dheading: float | None, params: WalkParams
     turn = max(-1.0, min(1.0, turn_gain * math.degrees(turn_to) / 180.0))
     x, y = direction_to_xy(direction, params.max_step_size_x, params.max_step_size_y)
     speed = min(1.0, dist / brake)
-    # While facing far away from the direction of travel, turn first and walk slowly.
-    if dist > face_beyond and abs(direction) > math.radians(45):
+    # Far from a target well off to the side or behind: turn toward it on the spot first.
+    if dist > face_beyond and abs(direction) > math.radians(60):
+        speed = 0.0
+    elif dist > face_beyond and abs(direction) > math.radians(30):
         speed *= 0.3
     return x * speed, y * speed, turn
 
