@@ -1,0 +1,107 @@
+"""Getup benchmark: success rate and mean time from lying on the front and on the back.
+
+For each robot type, `--tries` attempts from each side: the robot is placed
+lying (`World.place_robot(..., lying=...)`) at a random heading with randomly
+perturbed joint angles (seeded), held 0.5 s to settle, then driven only by
+`skills.falls.Getup` through its percepts. Success: within `--limit` seconds
+the torso's up-vector z exceeds 0.9 and its height 0.8 x the stand height, and
+both still hold after standing 1 s more. Time is when that first held.
+Prints one JSON line per robot type.
+
+    python benchmarks/getup.py [--types 0 1 2 3 4] [--tries 20] [--seed 0]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+
+import numpy as np
+
+from models import nao
+from models.scene import Lineup
+from server.sensors import Proprioception
+from server.world import World
+from skills.control import JointPid
+from skills.falls import Getup
+
+SETTLE = 0.5  # s lying still before the getup starts
+HOLD = 1.0  # s the robot must stay up
+UP_MIN = 0.9
+HEIGHT_FRACTION = 0.8
+JOINT_NOISE = 0.15  # rad, sigma of the joint perturbation
+
+
+def attempt(world: World, robot_type: int, lying: str, rng: np.random.Generator,
+            limit: float = 3.0, getup: Getup | None = None) -> float | None:
+    """One getup from `lying` ("front"/"back"); returns the time (s) to stand, or None on failure."""
+    specs = nao.joints(robot_type)
+    lo, hi = np.array([j.lower for j in specs]), np.array([j.upper for j in specs])
+    q0 = np.clip(rng.normal(0.0, JOINT_NOISE, len(specs)), lo, hi)
+    world.place_ball((10.0, 8.0))
+    world.place_robot(1, 12.0, -8.0, 0.0)
+    world.place_robot(0, -3.0, 3.0, rng.uniform(-math.pi, math.pi), joints=q0, lying=lying)
+    world.settle_height(0)
+    sense = Proprioception(world)
+    act = world.players[0].actuators
+    ctrl = np.zeros(world.model.nu)
+    pid = JointPid.for_robot(robot_type)
+    for _ in range(round(SETTLE / 0.02)):
+        q = sense.read()[0][0]
+        ctrl[act] = pid(q0, q)
+        world.step(ctrl)
+    getup = getup or Getup(robot_type)
+    getup.reset()
+    pid.reset()
+    stand = nao.standing_height(robot_type)
+    t0 = world.time
+    up_since = None
+    hold_targets = None
+    while world.time - t0 < limit + HOLD + 1e-9:
+        q, gyro, acc, _ = sense.read()[0]
+        targets = getup.step(world.time, q, acc, gyro)
+        if targets is not None:
+            hold_targets = targets.copy()
+        elif hold_targets is None:
+            hold_targets = q.copy()
+        ctrl[act] = pid(targets if targets is not None else hold_targets, q)
+        world.step(ctrl)
+        up = world.torso_up()[0] > UP_MIN and world.torso_positions()[0, 2] > HEIGHT_FRACTION * stand
+        if up and not getup.busy:
+            up_since = world.time if up_since is None else up_since
+            if world.time - up_since >= HOLD - 1e-9:
+                return up_since - t0
+        else:
+            up_since = None
+            if world.time - t0 > limit:
+                return None
+    return None
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--types", type=int, nargs="+", default=[0, 1, 2, 3, 4])
+    ap.add_argument("--tries", type=int, default=20)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--limit", type=float, default=3.0, help="s allowed to get up")
+    args = ap.parse_args(argv)
+    for t in args.types:
+        world = World(Lineup((t,), (0,)))
+        rng = np.random.default_rng([args.seed, t])
+        row: dict = {"robot_type": t, "tries": args.tries, "limit_s": args.limit}
+        wall = time.perf_counter()
+        for side in ("front", "back"):
+            times = [attempt(world, t, side, rng, args.limit) for _ in range(args.tries)]
+            ok = [x for x in times if x is not None]
+            row[f"{side}_success"] = len(ok) / args.tries
+            row[f"{side}_mean_time_s"] = round(float(np.mean(ok)), 3) if ok else None
+        row["wall_s"] = round(time.perf_counter() - wall, 1)
+        print(json.dumps(row), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

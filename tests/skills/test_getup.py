@@ -1,0 +1,205 @@
+"""Fall detection and the getup skills, in physics; skill-file errors carry line numbers."""
+
+import math
+
+import numpy as np
+import pytest
+
+from models import nao
+from models.scene import Lineup
+from server.sensors import Proprioception
+from server.world import World
+from skills.control import JointPid
+from skills.falls import BACK, FALLING, FRONT, LEFT, RIGHT, UPRIGHT, FallDetector, Getup
+from skills.params import ParamError
+from skills.skill import read_skills, skill_path
+
+
+def lone_world(robot_type: int) -> World:
+    """One robot of `robot_type` with the ball and the other robot far away."""
+    w = World(Lineup((robot_type,), (0,)))
+    w.place_ball((10.0, 8.0))
+    w.place_robot(1, 12.0, -8.0, 0.0)
+    return w
+
+
+# ----------------------------------------------------------------- fall detection
+
+
+@pytest.mark.parametrize("accel, state", [
+    ((0.0, 0.0, 9.81), UPRIGHT),
+    ((-9.81, 0.0, 0.0), FRONT),  # face down: world up is the torso's -x
+    ((9.81, 0.0, 0.0), BACK),
+    ((0.0, -9.81, 0.0), LEFT),  # left side down: world up is the torso's -y
+    ((0.0, 9.81, 0.0), RIGHT),
+    ((-3.0, 0.0, 9.3), UPRIGHT),  # leaning 18 degrees
+])
+def test_detector_classifies_resting_postures(accel, state):
+    d = FallDetector()
+    for _ in range(20):
+        d.update(np.array(accel), np.zeros(3))
+    assert d.state == state
+    assert d.fallen == (state not in (UPRIGHT, FALLING))
+
+
+def test_detector_ignores_a_single_spike():
+    d = FallDetector()
+    d.update(np.array([0.0, 0.0, 9.81]), np.zeros(3))
+    assert d.update(np.array([-30.0, 0.0, 0.0]), np.zeros(3)) != FRONT
+
+
+@pytest.mark.parametrize("lying, state", [("front", FRONT), ("back", BACK), (None, UPRIGHT)])
+def test_detector_in_physics(lying, state):
+    w = lone_world(0)
+    w.place_robot(0, -3.0, 3.0, 0.7, lying=lying)
+    if lying:
+        w.settle_height(0)
+    sense = Proprioception(w)
+    pid = JointPid.for_robot(0)
+    act = w.players[0].actuators
+    ctrl = np.zeros(w.model.nu)
+    d = FallDetector()
+    for _ in range(50):
+        q, gyro, acc, _ = sense.read()[0]
+        d.update(acc, gyro)
+        ctrl[act] = pid(np.zeros(len(q)), q)
+        w.step(ctrl)
+    assert d.state == state
+
+
+def test_detector_sees_a_fall_coming_and_landing():
+    w = lone_world(0)
+    w.place_robot(0, -3.0, 3.0, 0.0)
+    w.settle_height(0)
+    p = w.players[0]
+    sense = Proprioception(w)
+    ctrl = np.zeros(w.model.nu)
+    d = FallDetector()
+    seen = []
+    for k in range(100):
+        w.data.xfrc_applied[p.torso, 0] = 15.0 if k < 10 else 0.0  # a push forward (N)
+        _, gyro, acc, _ = sense.read()[0]
+        seen.append(d.update(acc, gyro))
+        w.step(ctrl)
+    assert FALLING in seen
+    assert seen.index(FALLING) < seen.index(FRONT)
+    assert seen[-1] == FRONT and w.torso_up()[0] < 0.3
+
+
+# -------------------------------------------------------------------- getting up
+
+
+def get_up(robot_type: int, lying: str, seed: int, limit: float = 3.0) -> float | None:
+    """Time (s) until the robot stands (up z > 0.9, height > 0.8 stand) for 1 s, or None."""
+    w = lone_world(robot_type)
+    rng = np.random.default_rng(seed)
+    specs = nao.joints(robot_type)
+    q0 = np.clip(rng.normal(0.0, 0.1, len(specs)), [s.lower for s in specs], [s.upper for s in specs])
+    w.place_robot(0, -3.0, 3.0, rng.uniform(-math.pi, math.pi), joints=q0, lying=lying)
+    w.settle_height(0)
+    sense = Proprioception(w)
+    act = w.players[0].actuators
+    ctrl = np.zeros(w.model.nu)
+    pid = JointPid.for_robot(robot_type)
+    for _ in range(25):
+        q = sense.read()[0][0]
+        ctrl[act] = pid(q0, q)
+        w.step(ctrl)
+    getup = Getup(robot_type)
+    stand = nao.standing_height(robot_type)
+    t0, since, hold = w.time, None, None
+    while w.time - t0 < limit + 1.0:
+        q, gyro, acc, _ = sense.read()[0]
+        target = getup.step(w.time, q, acc, gyro)
+        hold = target.copy() if target is not None else (q.copy() if hold is None else hold)
+        ctrl[act] = pid(hold, q)
+        w.step(ctrl)
+        up = w.torso_up()[0] > 0.9 and w.torso_positions()[0, 2] > 0.8 * stand
+        if up and not getup.busy:
+            since = w.time if since is None else since
+            if w.time - since >= 1.0 - 1e-9:
+                return since - t0
+        else:
+            since = None
+            if w.time - t0 > limit:
+                return None
+    return None
+
+
+@pytest.mark.parametrize("robot_type", [0, 1, 2, 3, 4])
+@pytest.mark.parametrize("lying", ["front", "back"])
+def test_gets_up(robot_type, lying):
+    took = get_up(robot_type, lying, seed=robot_type)
+    assert took is not None, f"type {robot_type} did not get up from the {lying}"
+    assert took < 3.0
+
+
+def test_upright_robot_plays_no_getup():
+    g = Getup(0)
+    for k in range(20):
+        assert g.step(0.02 * k, np.zeros(22), np.array([0.0, 0.0, 9.81]), np.zeros(3)) is None
+    assert not g.busy and g.count == 0
+
+
+def test_getup_chooses_the_skill_for_the_side():
+    g = Getup(0)
+    for k in range(10):
+        g.step(0.02 * k, np.zeros(22), np.array([9.81, 0.0, 0.0]), np.zeros(3))
+    assert g.busy and g.active == BACK and g.count == 1
+    g.reset()
+    for k in range(10):
+        g.step(0.02 * k, np.zeros(22), np.array([-9.81, 0.0, 0.0]), np.zeros(3))
+    assert g.active == FRONT
+
+
+# ------------------------------------------------------------- malformed files
+
+
+def test_malformed_getup_skill_names_its_line(tmp_path):
+    text = open(skill_path("getup_front.skl")).read().splitlines()
+    # Break the first settar of the file: a misspelt joint.
+    k = next(i for i, line in enumerate(text) if line.strip().startswith("settar"))
+    text[k] = text[k].replace("settar", "settar lle33 5", 1)
+    bad = tmp_path / "getup_front.skl"
+    bad.write_text("\n".join(text) + "\n")
+    with pytest.raises(ParamError) as e:
+        read_skills(bad)
+    assert str(e.value).startswith(f"{bad}:{k + 1}:") and "'lle33'" in str(e.value)
+
+
+def test_malformed_getup_parameter_file_names_its_line(tmp_path):
+    from skills.falls import load_getup_skills
+
+    bad = tmp_path / "getup.params"
+    bad.write_text("# tuned getup\n\nnot_a_getup_parameter\t3\n")
+    with pytest.raises(ParamError, match=r"getup\.params:3: unknown parameter 'not_a_getup_parameter'"):
+        load_getup_skills([bad])
+
+
+@pytest.mark.parametrize("roll_deg, side", [(-90.0, LEFT), (90.0, RIGHT)])
+def test_rolls_off_its_side_then_gets_up(roll_deg, side):
+    import mujoco
+
+    w = lone_world(0)
+    w.place_robot(0, -3.0, 3.0, 0.0, z=0.12)
+    p = w.players[0]
+    quat = np.zeros(4)
+    mujoco.mju_axisAngle2Quat(quat, np.array([1.0, 0.0, 0.0]), math.radians(roll_deg))
+    w.data.qpos[p.root_qpos + 3:p.root_qpos + 7] = quat
+    mujoco.mj_forward(w.model, w.data)
+    w.settle_height(0)
+    sense = Proprioception(w)
+    pid = JointPid.for_robot(0)
+    getup = Getup(0)
+    ctrl = np.zeros(w.model.nu)
+    hold, played = None, []
+    for _ in range(400):
+        q, gyro, acc, _ = sense.read()[0]
+        target = getup.step(w.time, q, acc, gyro)
+        hold = target.copy() if target is not None else (q.copy() if hold is None else hold)
+        if getup.active and (not played or played[-1] != getup.active):
+            played.append(getup.active)
+        ctrl[p.actuators] = pid(hold, q)
+        w.step(ctrl)
+    assert played[0] == side and played[-1] in (FRONT, BACK)
+    assert w.torso_up()[0] > 0.9 and w.torso_positions()[0, 2] > 0.8 * nao.standing_height(0)
