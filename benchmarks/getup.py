@@ -42,7 +42,8 @@ def attempt(world: World, robot_type: int, lying: str, rng: np.random.Generator,
     lo, hi = np.array([j.lower for j in specs]), np.array([j.upper for j in specs])
     q0 = np.clip(rng.normal(0.0, JOINT_NOISE, len(specs)), lo, hi)
     world.place_ball((10.0, 8.0))
-    world.place_robot(1, 12.0, -8.0, 0.0)
+    for i in range(1, len(world.players)):  # anyone else waits far away
+        world.place_robot(i, 12.0, -8.0, 0.0)
     world.place_robot(0, -3.0, 3.0, rng.uniform(-math.pi, math.pi), joints=q0, lying=lying)
     world.settle_height(0)
     sense = Proprioception(world)
@@ -89,18 +90,23 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--limit", type=float, default=3.0, help="s allowed to get up")
     args = ap.parse_args(argv)
     for t in args.types:
-        world = World(Lineup((t,), (0,)))
-        rng = np.random.default_rng([args.seed, t])
-        row: dict = {"robot_type": t, "tries": args.tries, "limit_s": args.limit}
-        wall = time.perf_counter()
-        for side in ("front", "back"):
-            times = [attempt(world, t, side, rng, args.limit) for _ in range(args.tries)]
-            ok = [x for x in times if x is not None]
-            row[f"{side}_success"] = len(ok) / args.tries
-            row[f"{side}_mean_time_s"] = round(float(np.mean(ok)), 3) if ok else None
-        row["wall_s"] = round(time.perf_counter() - wall, 1)
-        print(json.dumps(row), flush=True)
+        print(json.dumps({"robot_type": t, **getup_stats(t, args.tries, args.seed, args.limit)}), flush=True)
     return 0
+
+
+def getup_stats(robot_type: int, tries: int = 20, seed: int = 0, limit: float = 3.0) -> dict:
+    """Success rate and mean time (s) of `tries` getups from each side."""
+    world = World(Lineup((robot_type,), ()))
+    rng = np.random.default_rng([seed, robot_type])
+    row: dict = {"tries": tries, "limit_s": limit}
+    wall = time.perf_counter()
+    for side in ("front", "back"):
+        times = [attempt(world, robot_type, side, rng, limit) for _ in range(tries)]
+        ok = [x for x in times if x is not None]
+        row[f"{side}_success"] = len(ok) / tries
+        row[f"{side}_mean_time_s"] = round(float(np.mean(ok)), 3) if ok else None
+    row["wall_s"] = round(time.perf_counter() - wall, 1)
+    return row
 
 
 if __name__ == "__main__":

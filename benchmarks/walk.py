@@ -9,7 +9,7 @@ JSON line per robot type:
   straight walks, a curve, quick direction changes, stop and go, a spiral),
   walked by dead reckoning on the walk's own odometry: falls, time, how far
   the dead-reckoned pose drifted from the truth;
-* getup success and time when the getup benchmark is available.
+* getup success and mean time from front and back (`benchmarks.getup`).
 
 Goals for the hand-tuned defaults (issue 3): forward >= 0.3 m/s, sideways
 >= 0.15 m/s, turning >= 60 deg/s, no falls on the course.
@@ -80,11 +80,11 @@ def constant_walk(t: int, cmd: tuple[float, float, float], seconds: float) -> di
 
 
 def course(t: int, limit: float = 240.0) -> dict:
-    """Walk the course by dead reckoning; a fall is counted and the trainer stands the
-    robot up where it lies (the getup skills are benchmarked on their own)."""
+    """Walk the course by dead reckoning; a fallen robot gets up with its getup skills
+    (from its percepts) and goes on; falls are counted."""
     tr, mo = new_robot(t)
     odo = Odometry()
-    falls, k, stop_left, cycles = 0, 0, None, 0
+    falls, k, stop_left, cycles, was_down = 0, 0, None, 0, False
     while k < len(COURSE) and cycles * 0.02 < limit:
         tx, ty, stop = COURSE[k]
         pc = tr.percepts()[0]
@@ -102,30 +102,25 @@ def course(t: int, limit: float = 240.0) -> dict:
             cmd = (0.0, 0.0, 0.0) if stop > 0 else walk_toward(dx, dy, None, mo.walk.params)
         else:
             cmd = walk_toward(dx, dy, None, mo.walk.params)
-        v = mo.walk_step(pc, *cmd)
-        if mo.last is not None:
+        v = mo.recover(pc)  # a fallen robot gets up by its getup skills, then walks on
+        if v is None:
+            v = mo.walk_step(pc, *cmd)
             odo.update(*mo.last.odometry)
         tr.step({0: Action(v)})
         cycles += 1
-        if fallen(tr):
-            falls += 1
-            x, y, h = tr.world.player_pose(0)
-            q0 = mo.walk.update(0.0, 0.0, 0.0).targets
-            mo.reset()
-            tr.world.place_robot(0, x, y, h, joints=np.where(np.isnan(q0), 0.0, q0))
-            tr.world.settle_height(0)
+        down = fallen(tr)
+        falls += down and not was_down
+        was_down = down
     x, y, h = tr.world.player_pose(0)
-    return {"waypoints": len(COURSE), "reached": k, "falls": falls, "seconds": round(cycles * 0.02, 1),
+    return {"waypoints": len(COURSE), "reached": k, "falls": falls, "getups_started": mo.getup.count,
+            "seconds": round(cycles * 0.02, 1),
             "odometry_error_m": round(math.hypot(x - odo.x, y - odo.y), 3),
             "odometry_heading_error_deg": round(abs(math.degrees(wrap(h - odo.heading))), 1)}
 
 
 def getups(t: int, tries: int) -> dict | None:
-    try:
-        from benchmarks.getup import getup_stats
-    except ImportError:
-        return None
-    return getup_stats(t, tries)
+    from benchmarks.getup import getup_stats
+    return getup_stats(t, tries) if tries > 0 else None
 
 
 def main() -> None:

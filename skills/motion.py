@@ -16,6 +16,7 @@ from models import nao
 from models.messages import Percept
 from models.rules import CYCLE
 from skills.control import JointPid, PidGains
+from skills.falls import Getup
 from skills.imu import TiltEstimator
 from skills.walk import WalkEngine, WalkOutput
 
@@ -36,6 +37,8 @@ class Motion:
         self._prev_target: np.ndarray | None = None
         self.head = np.array([self.names.index(n) for n in HEAD])
         self.last: WalkOutput | None = None
+        self.getup = Getup(robot_type)
+        self._recovering = False
 
     def reset(self) -> None:
         """After a beam, a getup or anything that moved the body by other means."""
@@ -58,6 +61,22 @@ class Motion:
         self._prev_target = target.copy()
         v = self.pid(target, q) + self.feedforward * ff
         return np.clip(v, -self.max_speed, self.max_speed)
+
+    def recover(self, percept: Percept) -> np.ndarray | None:
+        """Joint velocities of a getup while the robot is down (or getting up), else None.
+
+        Call it every cycle before walking; when it returns None the body is
+        upright and free for the walk (which restarts from standing after a getup).
+        """
+        target = self.getup.step(percept.time, percept.joints, percept.accel, percept.gyro)
+        if target is None:
+            if self._recovering:
+                self._recovering = False
+                self.walk.reset()
+                self._prev_target = None
+            return None
+        self._recovering = True
+        return self.command(target, percept)
 
     def walk_step(self, percept: Percept, x: float, y: float, turn: float,
                   set_name: str = "go_to_target", head: np.ndarray | None = None) -> np.ndarray:
