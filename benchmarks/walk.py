@@ -81,7 +81,7 @@ def constant_walk(t: int, cmd: tuple[float, float, float], seconds: float) -> di
 
 def course(t: int, limit: float = 240.0) -> dict:
     """Walk the course by dead reckoning; a fallen robot gets up with its getup skills
-    (from its percepts) and goes on; falls are counted."""
+    (from its percepts) and goes on. Falls while walking and getups started are counted."""
     tr, mo = new_robot(t)
     odo = Odometry()
     falls, k, stop_left, cycles, was_down = 0, 0, None, 0, False
@@ -103,13 +103,14 @@ def course(t: int, limit: float = 240.0) -> dict:
         else:
             cmd = walk_toward(dx, dy, None, mo.walk.params)
         v = mo.recover(pc)  # a fallen robot gets up by its getup skills, then walks on
-        if v is None:
+        walking = v is None
+        if walking:
             v = mo.walk_step(pc, *cmd)
             odo.update(*mo.last.odometry)
         tr.step({0: Action(v)})
         cycles += 1
         down = fallen(tr)
-        falls += down and not was_down
+        falls += down and not was_down and walking  # falls while walking, not failed getups
         was_down = down
     x, y, h = tr.world.player_pose(0)
     return {"waypoints": len(COURSE), "reached": k, "falls": falls, "getups_started": mo.getup.count,

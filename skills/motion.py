@@ -21,6 +21,7 @@ from skills.imu import TiltEstimator
 from skills.walk import WalkEngine, WalkOutput
 
 HEAD = ("hj1", "hj2")
+SETTLE_AFTER_GETUP = 1.0  # s standing still after a getup before the walk may go on
 
 
 class Motion:
@@ -39,6 +40,7 @@ class Motion:
         self.last: WalkOutput | None = None
         self.getup = Getup(robot_type)
         self._recovering = False
+        self._settle_until = -1.0
 
     def reset(self) -> None:
         """After a beam, a getup or anything that moved the body by other means."""
@@ -70,10 +72,12 @@ class Motion:
         """
         target = self.getup.step(percept.time, percept.joints, percept.accel, percept.gyro)
         if target is None:
-            if self._recovering:
+            if self._recovering:  # just up: settle into the walk's stand before walking
                 self._recovering = False
                 self.walk.reset()
-                self._prev_target = None
+                self._settle_until = percept.time + SETTLE_AFTER_GETUP
+            if percept.time < self._settle_until:
+                return self.walk_step(percept, 0.0, 0.0, 0.0)
             return None
         self._recovering = True
         return self.command(target, percept)
