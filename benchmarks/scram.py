@@ -12,6 +12,7 @@ The paper's figure is printed beside each of ours. Usage::
 
     python benchmarks/scram.py            # defaults: ~10 minutes on 2 idle cores
     python benchmarks/scram.py --quick    # a quick smoke run
+    python benchmarks/scram.py --table 2 --sizes 10 20 100 300 1000  # timings only
     python benchmarks/scram.py --skip t2 --trials 100000 --prio-trials 30000  # paper-scale
 """
 
@@ -272,7 +273,15 @@ def main(argv=None) -> None:
     p.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     p.add_argument("--seed", type=int, default=2015)
     p.add_argument("--skip", nargs="*", default=[], choices=["t2", "t4", "t61"])
+    p.add_argument(
+        "--table",
+        action="append",
+        choices=["2", "4", "6.1"],
+        help="run only this table (repeatable), e.g. --table 2 for the timings alone",
+    )
     args = p.parse_args(argv)
+    if args.table:
+        args.skip = [s for t, s in (("2", "t2"), ("4", "t4"), ("6.1", "t61")) if t not in args.table]
     sizes = args.sizes or ([10, 20, 100, 300] if args.quick else [10, 20, 100, 300, 1000, 10000])
     trials = args.trials or (2000 if args.quick else 30_000)
     prio_trials = args.prio_trials or (1000 if args.quick else 10_000)

@@ -47,7 +47,8 @@ def max_matching(n: int, rows: np.ndarray, cols: np.ndarray, init: np.ndarray | 
     cols = np.asarray(cols, dtype=np.int64)
     # Row-major adjacency (CSR) so that a search level costs only the degree
     # of its frontier.
-    order = np.argsort(rows, kind="stable")
+    # Stable sorts of 16-bit integers are radix sorts (linear time).
+    order = np.argsort(rows.astype(np.int16) if n < 32768 else rows, kind="stable")
     adj = cols[order]
     indptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
@@ -222,16 +223,18 @@ def bottleneck_edges(
     return int(ends[hi]), best[0]
 
 
-def dense_candidates(cost: np.ndarray) -> EdgeList:
+def dense_candidates(cost: np.ndarray) -> tuple[EdgeList, int | None, np.ndarray | None]:
     """Sorted edges of a dense cost matrix sufficient for its bottleneck.
 
     Every edge no longer than the bottleneck value (ties included) is in the
-    returned list, so the list also serves MMD+MSD^2 and MMDR.
+    returned list, so the list also serves MMD+MSD^2 and MMDR. Returns
+    (edges, end, match): if `end` is not None, the prefix `edges[:end]` admits
+    the perfect matching `match` (column of each row), bounding the bottleneck.
     """
     n = cost.shape[0]
     flat = cost.ravel()
     if n <= 64:
-        return sorted_edges(cost)
+        return sorted_edges(cost), None, None
     lower = max(cost.min(axis=1).max(), cost.min(axis=0).max())
     above = flat[flat > lower]
     budget = 4 * n
@@ -243,12 +246,13 @@ def dense_candidates(cost: np.ndarray) -> EdgeList:
         index = np.flatnonzero(flat <= threshold)
         edges = sorted_edges(cost, index)
         if threshold == np.inf:
-            return edges
+            return edges, None, None
         # Edges equal to the threshold may be excluded from the prefix test but
         # the list must hold every edge up to the bottleneck, ties included.
-        below = edges.keys < threshold
-        if perfect_matching(n, edges.rows[below], edges.cols[below]) is not None:
-            return edges
+        end = int(np.searchsorted(edges.keys, threshold, side="left"))
+        match = perfect_matching(n, edges.rows[:end], edges.cols[:end])
+        if match is not None:
+            return edges, end, match
         budget *= 4
 
 
@@ -264,8 +268,8 @@ def bottleneck(cost: np.ndarray) -> tuple[float, np.ndarray, EdgeList]:
         raise ValueError(f"cost must be square, got {cost.shape}")
     if n == 0:
         return 0.0, np.zeros(0, dtype=np.int64), sorted_edges(cost)
-    edges = dense_candidates(cost)
-    end, match = bottleneck_edges(edges)
+    edges, upper, init = dense_candidates(cost)
+    end, match = bottleneck_edges(edges, upper=upper, init=init)
     value = float(edges.keys[end - 1])
     keep = int(np.searchsorted(edges.keys, value, side="right"))
     return value, match, edges.take(slice(0, keep))

@@ -10,7 +10,8 @@ needed. This implementation exists for the cases it cannot serve:
 
 The algorithm is the O(n^3) Kuhn-Munkres method in its shortest augmenting
 path form (one Dijkstra search per row, potentials kept feasible), with the
-inner loop vectorized over columns.
+inner loop vectorized over columns; exact integer problems up to
+`LIST_MAX_N` rows run the same steps on plain Python lists instead.
 """
 
 from __future__ import annotations
@@ -19,6 +20,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+
+LIST_MAX_N = 128  # exact integer costs up to this size: plain Python lists beat object arrays
 
 
 @dataclass
@@ -54,6 +57,8 @@ def hungarian(
     if cost.shape != (n, n):
         raise ValueError(f"cost must be square, got shape {cost.shape}")
     obj = cost.dtype == object
+    if obj and exact is None and n <= LIST_MAX_N:
+        return _hungarian_lists(cost.tolist())
     if obj:
         big = max((abs(int(x)) for x in cost.ravel()), default=0)
         inf = (big + 1) * (2 * n + 2) * 4
@@ -120,3 +125,56 @@ def hungarian(
     assignment = np.empty(n, dtype=np.int64)
     assignment[p[1:] - 1] = np.arange(n)
     return HungarianResult(assignment, u[1:], v[1:], evaluated)
+
+
+def _hungarian_lists(cost: list[list[int]]) -> HungarianResult:
+    """The same algorithm on Python lists of exact integers (small n).
+
+    Step for step as `hungarian` (first column of minimal reduced cost, strict
+    improvements only), so the result is identical; it only avoids the
+    per-call overhead of numpy object arrays.
+    """
+    n = len(cost)
+    u = [0] * (n + 1)
+    v = [0] * (n + 1)
+    p = [0] * (n + 1)
+    way = [0] * (n + 1)
+    for i in range(1, n + 1):
+        p[0] = i
+        j0 = 0
+        minv: list[int | None] = [None] * (n + 1)
+        used = [False] * (n + 1)
+        while True:
+            used[j0] = True
+            i0 = p[j0]
+            row = cost[i0 - 1]
+            ui = u[i0]
+            delta = None
+            j1 = 0
+            for j in range(1, n + 1):
+                if used[j]:
+                    continue
+                cur = row[j - 1] - ui - v[j]
+                mj = minv[j]
+                if mj is None or cur < mj:
+                    minv[j] = mj = cur
+                    way[j] = j0
+                if delta is None or mj < delta:
+                    delta = mj
+                    j1 = j
+            for j in range(n + 1):
+                if used[j]:
+                    u[p[j]] += delta
+                    v[j] -= delta
+                else:
+                    minv[j] -= delta
+            j0 = j1
+            if p[j0] == 0:
+                break
+        while j0:
+            j1 = way[j0]
+            p[j0] = p[j1]
+            j0 = j1
+    assignment = np.empty(n, dtype=np.int64)
+    assignment[np.array(p[1:], dtype=np.int64) - 1] = np.arange(n)
+    return HungarianResult(assignment, np.array(u[1:], dtype=object), np.array(v[1:], dtype=object))

@@ -9,13 +9,17 @@ Methods (MacAlpine, Price and Stone, "SCRAM", AAAI 2015; dissertation ch. 5):
 
 * ``mmdr``: Minimum Maximal Distance Recursive, the lexicographic bottleneck
   assignment, by the O(n^4) algorithm of Sokkalingam and Aneja: bottleneck
-  matching, then a 0-1 Hungarian whose optimal duals keep only tight edges.
+  matching, then a 0-1 Hungarian whose optimal duals keep only tight edges
+  (skipped when a single edge has the bottleneck length: it is forced). Up to
+  `MMDR_DENSE_N` agents a near-lexicographic warm start is first checked to
+  have every level forced, which settles most problems without tied costs.
 * ``mmdr-n5``: MMDR as one Hungarian on edge weights 2^rank, exact Python
   integers (bit vectors of length n^2).
-* ``mmdr-dp``: MMDR by the n 2^(n-1) dynamic program (Appendix C).
+* ``mmdr-dp``: MMDR by the n 2^(n-1) dynamic program (Appendix C), pruned
+  by the key of a heuristic complete mapping.
 * ``brute-force``: MMDR by enumerating all n! mappings (small n only).
 * ``mmd-msd2``: bottleneck, then the minimum sum of squared distances over
-  edges no longer than it.
+  edges no longer than it (one `linear_sum_assignment`).
 * ``msd``, ``msd2``: minimum sum of distances (of squared distances).
 * ``greedy``: repeatedly match the shortest remaining agent-target pair.
 * ``greedy-offense``: targets in order of decreasing x (most offensive first)
@@ -29,6 +33,7 @@ ranks of the distinct cost values, so equal distances are equal.
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 
 import numpy as np
@@ -52,7 +57,8 @@ METHODS = (
 )
 BRUTE_FORCE_MAX_N = 10
 DP_MAX_N = 22
-SMALL_N = 24  # up to this size dense matrices and plain Python beat edge lists
+SMALL_N = 128  # up to this size dense matrices and scipy beat edge lists (MMD+MSD^2)
+MMDR_DENSE_N = 400  # up to this size MMDR first tries `_mmdr_forced` (dense)
 
 
 def distances(agents: np.ndarray, targets: np.ndarray) -> np.ndarray:
@@ -71,7 +77,9 @@ def assign(agents: np.ndarray, targets: np.ndarray, method: str = "mmdr", *, see
     targets = np.asarray(targets, dtype=float)
     if agents.ndim != 2 or targets.shape != agents.shape:
         raise ValueError(f"agents and targets must both be (n, 2); got {agents.shape} and {targets.shape}")
-    order = np.lexsort((np.arange(len(targets)), -targets[:, 0])) if len(targets) else None
+    order = None
+    if method == "greedy-offense" and len(targets):  # the only method that needs it
+        order = np.lexsort((np.arange(len(targets)), -targets[:, 0]))
     return assign_costs(distances(agents, targets), method, target_order=order, seed=seed)
 
 
@@ -91,7 +99,8 @@ def assign_costs(
     n = cost.shape[0]
     if cost.ndim != 2 or cost.shape != (n, n):
         raise ValueError(f"cost must be square, got {cost.shape}")
-    if not np.all(np.isfinite(cost)):
+    # A finite sum rules out inf and nan; only an overflowing sum needs the full check.
+    if not math.isfinite(cost.sum()) and not np.all(np.isfinite(cost)):
         raise ValueError("cost must be finite")
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; expected one of {METHODS}")
@@ -230,115 +239,242 @@ def _zero_one_hungarian(
     return match, total, tight
 
 
-def _kuhn(n: int, ok: np.ndarray) -> list[int] | None:
-    """Perfect matching (column of each row) of the dense boolean graph `ok`, or None."""
-    cols = range(n)
-    adj = [[c for c in cols if row[c]] for row in ok.tolist()]
-    match_col = [-1] * n
+def _heuristic_weights(cost: np.ndarray) -> np.ndarray:
+    """Weights 2^rank (ties broken by position) for near-lexicographic warm starts.
 
-    def grow(r: int, seen: list[bool]) -> bool:
-        for c in adj[r]:
-            if not seen[c]:
-                seen[c] = True
-                if match_col[c] < 0 or grow(match_col[c], seen):
-                    match_col[c] = r
-                    return True
-        return False
-
-    for r in range(n):
-        if not grow(r, [False] * n):
-            return None
-    out = [0] * n
-    for c, r in enumerate(match_col):
-        out[r] = c
-    return out
-
-
-def _small_bottleneck(
-    ranks: np.ndarray, allowed: np.ndarray, fixed: np.ndarray, upper: int | None = None
-) -> int:
-    """Bottleneck rank over allowed non-fixed edges (fixed edges always usable).
-
-    Binary search over the sorted distinct ranks, each tested by Kuhn's
-    augmenting path algorithm. `upper`, a rank known to be feasible, makes the
-    search gallop down from it instead.
+    A min-sum assignment on these floats is close to the MMDR optimum but not
+    exact (float sums round); it only supplies good starting matchings, every
+    decision is then checked exactly. Beyond 900 edges the exponents are
+    scaled down to stay finite.
     """
-    n = ranks.shape[0]
-    free = allowed & ~fixed
-    values = np.unique(ranks[free])
-
-    def feasible(k: int) -> bool:
-        return _kuhn(n, fixed | (free & (ranks <= values[k]))) is not None
-
-    lo = -1
-    if upper is None:
-        hi = values.size - 1
-        if not feasible(hi):
-            raise ValueError("graph has no perfect matching")
-    else:
-        hi = int(np.searchsorted(values, upper))
-        step = 1
-        while hi - step > lo:
-            if not feasible(hi - step):
-                lo = hi - step
-                break
-            hi -= step
-            step *= 2
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if feasible(mid):
-            hi = mid
-        else:
-            lo = mid
-    return int(values[hi])
+    flat = cost.ravel()
+    ranks = np.empty(flat.size, dtype=np.float64)
+    ranks[np.argsort(flat, kind="stable")] = np.arange(flat.size) * min(1.0, 900.0 / flat.size)
+    return np.exp2(ranks).reshape(cost.shape)
 
 
-def _mmdr_small(cost: np.ndarray) -> np.ndarray:
-    """Sokkalingam-Aneja MMDR on dense matrices (same steps as `mmdr`)."""
-    n = cost.shape[0]
-    ranks = dense_ranks(cost)
-    allowed = np.ones((n, n), dtype=bool)
-    fixed = np.zeros((n, n), dtype=bool)
-    b = _small_bottleneck(ranks, allowed, fixed)
-    left = n
-    rows = np.arange(n)
+def _descend(
+    cost: np.ndarray, ok: np.ndarray, fixed: np.ndarray, weights: np.ndarray, match: np.ndarray
+) -> tuple[float, np.ndarray]:
+    """Bottleneck over the edges `ok` whose non-fixed part is as short as possible.
+
+    `match` (column of each row) is a perfect matching of `ok`. Repeatedly
+    asks for a perfect matching of `ok` whose non-fixed edges are all shorter
+    than the longest non-fixed edge of the current one (a min-sum assignment
+    on `weights` over the allowed edges, infinite elsewhere; scipy reports
+    infeasibility exactly). Returns (b, matching): b is the smallest cost such
+    that the fixed edges plus the non-fixed edges <= b of `ok` admit a perfect
+    matching, and the returned matching of `ok` has no non-fixed edge above b.
+    Requires a matching with at least one non-fixed edge.
+    """
+    rows = np.arange(cost.shape[0])
     while True:
-        allowed &= fixed | (ranks <= b)
-        w = (~fixed & (ranks == b)).astype(np.int64)
-        _, match = linear_sum_assignment(np.where(allowed, w, np.inf))
-        left -= int(w[rows, match].sum())
+        on = cost[rows, match]
+        top = on[~fixed[rows, match]].max()
+        allow = ok & (fixed | (cost < top))
+        try:
+            match = linear_sum_assignment(np.where(allow, weights, np.inf))[1]
+        except ValueError:  # no perfect matching below top: top is the bottleneck
+            return float(top), match
+
+
+def _duals_tight(n: int, allowed: np.ndarray, w: np.ndarray, match: np.ndarray) -> np.ndarray:
+    """Tight edges of `allowed` under an optimal dual of the 0-1 min-cost matching `match`.
+
+    Duals are shortest-path potentials of the residual graph (dense
+    Bellman-Ford, vectorized); a perfect matching uses only tight edges iff it
+    is optimal.
+    """
+    rows = np.arange(n)
+    big = 4 * n + 4
+    wa = np.where(allowed, w, big)
+    dr = np.zeros(n, dtype=np.int64)
+    dc = np.zeros(n, dtype=np.int64)
+    wm = w[rows, match]
+    for _ in range(2 * n + 2):
+        ndc = np.minimum(dc, (dr[:, None] + wa).min(axis=0))
+        ndr = np.minimum(dr, ndc[match] - wm)
+        if np.array_equal(ndc, dc) and np.array_equal(ndr, dr):
+            break
+        dr, dc = ndr, ndc
+    return allowed & (w + dr[:, None] - dc[None, :] == 0)
+
+
+@lru_cache(maxsize=64)
+def _upper_triangle(n: int) -> np.ndarray:
+    """(n, n) mask [k, j]: j >= k."""
+    idx = np.arange(n)
+    return idx[None, :] >= idx[:, None]
+
+
+def _forced_prefix(cost: np.ndarray, match: np.ndarray) -> tuple[int, bool, np.ndarray]:
+    """How many levels of the perfect matching `match` are forced, from the top.
+
+    Sort the matched edges by decreasing cost d[0] >= d[1] >= ... (rows
+    `order`); subproblem k keeps the rows and columns of edges k..n-1. Level k
+    is forced if edge k is the only edge of cost d[k] in subproblem k and no
+    perfect matching of subproblem k uses only edges shorter than d[k]: the
+    Sokkalingam-Aneja steps then fix edge 0, edge 1, ... in turn. Returns
+    (k, shorter, order): levels 0..k-1 are forced; if k < n, `shorter` tells
+    whether subproblem k has a perfect matching of edges shorter than d[k]
+    (else level k has tied edges and needs the 0-1 step).
+    """
+    n = match.size
+    rows = np.arange(n)
+    on = cost[rows, match]
+    order = np.argsort(-on, kind="stable")
+    d = on[order]
+    p = cost[order][:, match[order]]
+    upper = _upper_triangle(n)
+    # A perfect matching of shorter edges needs one in row k and in column k.
+    maybe = ((p < d[:, None]) & upper).any(axis=1) & ((p < d[None, :]) & upper.T).any(axis=0)
+    values = np.sort(p, axis=None)
+    if np.any(values[1:] == values[:-1]):
+        # tie[k]: another entry (i, j) with i, j >= k equals d[k] (d decreasing).
+        pos = np.searchsorted(-d, -p, side="left")
+        hit = (pos < n) & (d[np.minimum(pos, n - 1)] == p) & (pos <= np.minimum(rows[:, None], rows[None, :]))
+        hit[rows, rows] &= pos[rows, rows] != rows
+        tie = np.zeros(n, dtype=bool)
+        tie[pos[hit]] = True
+        maybe |= tie
+    else:  # all costs distinct: no ties
+        tie = None
+    for k in np.flatnonzero(maybe).tolist():
+        if tie is not None and tie[k]:
+            return k, False, order
+        try:
+            linear_sum_assignment(np.where(p[k:, k:] < d[k], 0.0, np.inf))
+        except ValueError:
+            continue
+        return k, True, order
+    return n, False, order
+
+
+_MmdrState = tuple[np.ndarray, np.ndarray, np.ndarray, int]  # allowed, fixed, matching, rows left
+
+
+def _mmdr_forced(cost: np.ndarray) -> tuple[np.ndarray | None, _MmdrState | None]:
+    """MMDR while its levels are forced (the usual case without tied costs).
+
+    A near-lexicographic warm start is checked level by level
+    (`_forced_prefix`); forced levels are settled, and where a shorter
+    perfect matching exists the warm start is recomputed on the rest, now
+    restricted to edges shorter than that level. Returns (assignment, None)
+    if every level was forced, else (None, state) at the first tied level:
+    the allowed and settled (fixed) edges, a perfect matching of the allowed
+    edges and the number of unsettled rows, for `_mmdr_small` to go on from.
+    """
+    n = cost.shape[0]
+    out = np.empty(n, dtype=np.int64)
+    r_ids = np.arange(n)
+    c_ids = np.arange(n)
+    sub = cost
+    while True:
+        weights = _heuristic_weights(sub)
+        match = linear_sum_assignment(np.where(np.isinf(sub), np.inf, weights))[1]
+        k, shorter, order = _forced_prefix(sub, match)
+        out[r_ids[order[:k]]] = c_ids[match[order[:k]]]
+        if k == match.size:
+            return out, None
+        keep_r, keep_c = order[k:], match[order[k:]]
+        # Shorter: the rest has a bottleneck below level k; else a tie at level
+        # k, and the rest keeps the edges below level k - 1 (the last settled).
+        level = order[k] if shorter else order[k - 1] if k else -1
+        bound = sub[level, match[level]] if level >= 0 else np.inf
+        settled = np.ones(n, dtype=bool)
+        settled[r_ids[keep_r]] = False
+        rest = sub[np.ix_(keep_r, keep_c)]
+        rest = np.where(rest < bound, rest, np.inf) if level >= 0 else rest
+        r_ids, c_ids = r_ids[keep_r], c_ids[keep_c]
+        if shorter:
+            sub = rest
+            continue
+        allowed = np.zeros((n, n), dtype=bool)
+        fixed = np.zeros((n, n), dtype=bool)
+        done = np.flatnonzero(settled)
+        allowed[done, out[done]] = fixed[done, out[done]] = True
+        allowed[np.ix_(r_ids, c_ids)] = np.isfinite(rest)
+        full = out.copy()
+        full[r_ids] = c_ids  # the warm start, diagonal of `rest`
+        return None, (allowed, fixed, full, r_ids.size)
+
+
+def _mmdr_small(cost: np.ndarray, state: _MmdrState | None = None) -> np.ndarray:
+    """Sokkalingam-Aneja MMDR on dense matrices, level by level from the top.
+
+    Each level b is the bottleneck of the remaining problem (`_descend`,
+    warm-started by near-lexicographic matchings). A level with a single
+    unsettled edge of cost b is forced: every remaining perfect matching uses
+    it, so its row and column are settled. A level with several such edges
+    takes the 0-1 Hungarian step of the algorithm (minimize the number of
+    edges of cost b; keep only edges tight under optimal duals). `state`
+    resumes from `_mmdr_forced` (else the start is: all edges, none settled).
+    """
+    n = cost.shape[0]
+    weights = _heuristic_weights(cost)
+    rows = np.arange(n)
+    if state is None:
+        allowed = np.ones((n, n), dtype=bool)
+        fixed = np.zeros((n, n), dtype=bool)
+        match = linear_sum_assignment(weights)[1]
+        left = n
+    else:
+        allowed, fixed, match, left = state
+    while True:
+        b, match = _descend(cost, allowed, fixed, weights, match)
+        allowed &= fixed | (cost <= b)
+        level = allowed & ~fixed & (cost == b)
+        if np.count_nonzero(level) == 1:
+            r, c = divmod(int(np.argmax(level)), n)
+            allowed[r, :] = False
+            allowed[:, c] = False
+            allowed[r, c] = True
+            fixed[r, c] = True
+            left -= 1
+        else:
+            w = level.astype(np.int64)
+            match = linear_sum_assignment(np.where(allowed, w, np.inf))[1]
+            left -= int(w[rows, match].sum())
+            if left == 0:
+                return match.astype(np.int64)
+            allowed = _duals_tight(n, allowed, w, match)
+            fixed = (fixed | level) & allowed
+            weights = np.where(fixed, 0.0, weights)
+            match = linear_sum_assignment(np.where(allowed, weights, np.inf))[1]
         if left == 0:
             return match.astype(np.int64)
-        # Optimal duals by Bellman-Ford on the residual graph (dense).
-        big = 4 * n + 4
-        wa = np.where(allowed, w, big)
-        dr = np.zeros(n, dtype=np.int64)
-        dc = np.zeros(n, dtype=np.int64)
-        wm = w[rows, match]
-        for _ in range(2 * n + 2):
-            ndc = np.minimum(dc, (dr[:, None] + wa).min(axis=0))
-            ndr = np.minimum(dr, ndc[match] - wm)
-            if np.array_equal(ndc, dc) and np.array_equal(ndr, dr):
-                break
-            dr, dc = ndr, ndc
-        tight = allowed & (w + dr[:, None] - dc[None, :] == 0)
-        fixed = (fixed | (ranks == b)) & tight
-        allowed = tight
-        top = int(np.max(np.where(fixed[rows, match], -1, ranks[rows, match])))
-        b = _small_bottleneck(ranks, allowed, fixed, upper=top)
 
 
 def mmdr(cost: np.ndarray) -> np.ndarray:
     """MMDR by Sokkalingam and Aneja's O(n^4) algorithm (dissertation Alg. 2).
 
-    Small problems run on dense matrices (`_mmdr_small`); large ones on
-    sparse edge lists restricted to edges no longer than the bottleneck, with
-    connected components solved separately and warm-started matchings.
+    Up to `MMDR_DENSE_N` agents a near-lexicographic warm start is first
+    checked level by level (`_mmdr_forced`); without tied levels that settles
+    the problem. Otherwise small problems go on with the dense steps
+    (`_mmdr_small`, from the levels already settled) and large ones start
+    over on sparse edge lists (`_mmdr_edges`).
     """
     cost = np.asarray(cost, dtype=float)
     n = cost.shape[0]
+    state = None
+    if n <= MMDR_DENSE_N:
+        forced, state = _mmdr_forced(cost)
+        if forced is not None:
+            return forced
     if n <= SMALL_N:
-        return _mmdr_small(cost)
+        return _mmdr_small(cost, state)
+    return _mmdr_edges(cost)
+
+
+def _mmdr_edges(cost: np.ndarray) -> np.ndarray:
+    """Sokkalingam-Aneja on sparse edge lists, for large problems.
+
+    Edges are restricted to those no longer than the bottleneck, connected
+    components are solved separately and matchings warm-started. A level with
+    a single edge of the bottleneck length skips the 0-1 Hungarian step: that
+    edge is in every remaining perfect matching.
+    """
+    n = cost.shape[0]
     _, match, cand = bottleneck(cost)  # every edge > bottleneck has cost inf
     ranks = np.concatenate([[0], np.cumsum(cand.keys[1:] != cand.keys[:-1])]).astype(np.int64)
     edges = EdgeList(n, cand.rows, cand.cols, ranks)
@@ -349,10 +485,17 @@ def mmdr(cost: np.ndarray) -> np.ndarray:
         # Line 6: 0-1 costs; edges longer than b are infinite (dropped).
         keep = fixed | (edges.keys <= b)
         edges, fixed = edges.take(keep), fixed[keep]
-        w = ((edges.keys == b) & ~fixed).astype(np.int64)
-        # Lines 7-9: the Hungarian algorithm counts the edges of length b.
-        match, ones, tight = _zero_one_hungarian(n, edges, w, match)
-        left -= ones
+        level = (edges.keys == b) & ~fixed
+        if np.count_nonzero(level) == 1:
+            # A single unsettled edge of length b: every remaining perfect
+            # matching uses it (`match` does), so its row and column are settled.
+            e = int(np.argmax(level))
+            tight = level | ((edges.rows != edges.rows[e]) & (edges.cols != edges.cols[e]))
+            left -= 1
+        else:
+            # Lines 7-9: the Hungarian algorithm counts the edges of length b.
+            match, ones, tight = _zero_one_hungarian(n, edges, level.astype(np.int64), match)
+            left -= ones
         if left == 0:
             return match
         # Lines 12-13: keep tight edges; edges of length b become settled (-1).
@@ -409,27 +552,47 @@ def mmdr_dp(cost: np.ndarray) -> np.ndarray:
 
     best[S] is the MMDR mapping of agent set S to targets 0..|S|-1, kept as
     the exact key sum(2^rank) (Algorithm 1 ranks) and the agent given target
-    |S|-1. Ties go to the lowest agent index.
+    |S|-1. Ties go to the lowest agent index. Partial mappings whose key
+    exceeds that of a heuristic complete mapping are pruned (same result).
     """
     cost = np.asarray(cost, dtype=float)
     n = cost.shape[0]
     if n > DP_MAX_N:
         raise ValueError(f"mmdr-dp is limited to n <= {DP_MAX_N}, got {n}")
     ranks = rank_weights(cost)
-    w = [[1 << int(ranks[a, t]) for t in range(n)] for a in range(n)]
+    w = [[1 << r for r in row] for row in ranks.tolist()]
+    # Branch and bound: the key of any complete mapping bounds the optimum, and
+    # keys only grow as targets are added, so a partial mapping whose key
+    # exceeds it cannot be a prefix of the optimum (nor tie with one) and is
+    # dropped. The bound comes from a near-lexicographic heuristic mapping.
+    # A completion of targets k..n-1 costs at least the sum of their column
+    # minima, which tightens the test for partial mappings of targets 0..k-1.
+    guess = linear_sum_assignment(_heuristic_weights(cost))[1].tolist()
+    bound = sum(w[a][t] for a, t in enumerate(guess))
+    col_min = [min(w[a][t] for a in range(n)) for t in range(n)]
+    rest = [0] * (n + 1)
+    for t in range(n - 1, -1, -1):
+        rest[t] = rest[t + 1] + col_min[t]
     key: dict[int, int] = {0: 0}
     last: dict[int, int] = {}
     layer = [0]
+    agents = [(a, 1 << a) for a in range(n)]
     for k in range(n):
         nxt: dict[int, int] = {}
+        col = [w[a][k] for a in range(n)]
+        limit = bound - rest[k + 1]
+        least = limit - col_min[k]
         for s in layer:
             base = key[s]
-            for a in range(n):
-                bit = 1 << a
+            if base > least:  # even the shortest edge to target k is too long
+                continue
+            for a, bit in agents:
                 if s & bit:
                     continue
+                c = base + col[a]
+                if c > limit:
+                    continue
                 m = s | bit
-                c = base + w[a][k]
                 old = nxt.get(m)
                 if old is None or c < old or (c == old and a < last[m]):
                     nxt[m] = c
@@ -496,10 +659,12 @@ def mmd_msd2(cost: np.ndarray) -> np.ndarray:
     cost = np.asarray(cost, dtype=float)
     n = cost.shape[0]
     if n <= SMALL_N:
-        ranks = dense_ranks(cost)
-        none = np.zeros((n, n), dtype=bool)
-        b = _small_bottleneck(ranks, ~none, none)
-        return _lsa(np.where(ranks <= b, cost * cost, np.inf))
+        # Bottleneck from a near-lexicographic warm start, then one min-sum.
+        weights = _heuristic_weights(cost)
+        match = linear_sum_assignment(weights)[1]
+        all_ok = np.ones((n, n), dtype=bool)
+        b, _ = _descend(cost, all_ok, ~all_ok, weights, match)
+        return _lsa(np.where(cost <= b, cost * cost, np.inf))
     _, _, edges = bottleneck(cost)
     dense = np.full((n, n), np.inf)
     dense[edges.rows, edges.cols] = edges.keys * edges.keys

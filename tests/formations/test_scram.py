@@ -276,6 +276,7 @@ def test_edge_list_paths_against_brute_force(monkeypatch):
     # Large problems use the sparse edge-list forms of MMDR and MMD+MSD^2;
     # run them on small problems too (ties included) to compare with brute force.
     monkeypatch.setattr(scram, "SMALL_N", 0)
+    monkeypatch.setattr(scram, "MMDR_DENSE_N", 0)
     rng = np.random.default_rng(11)
     for _ in range(300):
         n = int(rng.integers(1, 7))
@@ -303,3 +304,43 @@ def test_many_ties_large_n():
     np.testing.assert_array_equal(
         scram.cost_vector(sub, scram.mmdr_dp(sub)), scram.cost_vector(sub, scram.mmdr(sub))
     )
+
+
+@pytest.mark.parametrize("n", [12, 20, 40])
+def test_dense_and_edge_list_mmdr_agree_at_medium_n(n, monkeypatch):
+    # The dense path (warm start, forced-level certificate, 0-1 steps on ties)
+    # against the edge-list path and the exact 2^rank Hungarian.
+    rng = np.random.default_rng(100 + n)
+    for _ in range(4):
+        side = 10 if rng.integers(2) else 40  # many ties, or few
+        k = rng.choice(side * side, 2 * n, replace=False)
+        pts = np.stack([k // side, k % side], axis=1).astype(float)
+        agents, targets = pts[:n], pts[n:]
+        cost = scram.distances(agents, targets)
+        ref = scram.cost_vector(cost, scram.mmdr_n5(cost))
+        np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref)
+        mmd = scram.mmd_msd2(cost)
+        with monkeypatch.context() as m:
+            m.setattr(scram, "MMDR_DENSE_N", 0)  # dense Sokkalingam-Aneja only
+            np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref)
+            m.setattr(scram, "SMALL_N", 0)  # edge lists
+            np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref)
+            np.testing.assert_array_equal(scram.mmd_msd2(cost), mmd)
+
+
+def test_integer_hungarian_list_path_matches_array_path(monkeypatch):
+    from formations import hungarian
+
+    rng = np.random.default_rng(13)
+    for n in (1, 3, 8, 15):
+        for _ in range(5):
+            side = 4 if rng.integers(2) else 50
+            cost = scram.distances(rng.integers(0, side, (n, 2)), rng.integers(0, side, (n, 2)))
+            weights = np.empty((n, n), dtype=object)
+            weights.ravel()[:] = [1 << int(r) for r in scram.rank_weights(cost).ravel()]
+            fast = hungarian.hungarian(weights.copy())
+            with monkeypatch.context() as m:
+                m.setattr(hungarian, "LIST_MAX_N", -1)
+                slow = hungarian.hungarian(weights.copy())
+            np.testing.assert_array_equal(fast.assignment, slow.assignment)
+            assert list(fast.u) == list(slow.u) and list(fast.v) == list(slow.v)
