@@ -235,6 +235,7 @@ class Match:
         if progress:
             from tqdm import tqdm
             bar = tqdm(total=round(total), unit="game s", file=sys.stderr, dynamic_ncols=True,
+                       mininterval=0.2 if sys.stderr.isatty() else 10.0,  # logs get a line per 10 s
                        bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} game s [{elapsed}<{remaining}{postfix}]")
         shown = 0.0
         while self.referee.mode != PlayMode.GAME_OVER:
