@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from cli import teams
+from cli.args import checked, robot_type
 
 EXIT_USAGE = 2
 
@@ -16,30 +17,10 @@ class UsageError(Exception):
     """A bad command-line value; printed as one line, exit code 2."""
 
 
-def _team_sizes(value: str) -> int:
-    try:
-        n = int(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"team size must be a whole number, not {value!r}") from None
-    if not 1 <= n <= 11:
-        raise argparse.ArgumentTypeError(f"team size must be 1 to 11, not {n}")
-    return n
-
-
-def _positive(value: str) -> float:
-    try:
-        v = float(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of seconds, not {value!r}") from None
-    if not v > 0:
-        raise argparse.ArgumentTypeError(f"must be positive, not {value}")
-    return v
-
-
-def _robot_type(value: str) -> int:
-    if value not in {"0", "1", "2", "3", "4"}:
-        raise argparse.ArgumentTypeError(f"robot type must be 0, 1, 2, 3 or 4, not {value!r}")
-    return int(value)
+_team_sizes = checked(int, "team size must be a whole number", lambda n: 1 <= n <= 11,
+                      "team size must be 1 to 11")
+_positive = checked(float, "expected a number of seconds", lambda v: v > 0, "must be positive")
+_robot_type = robot_type
 
 
 def _types(value: str) -> tuple[int, ...]:

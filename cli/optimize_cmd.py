@@ -8,6 +8,8 @@ import logging
 import sys
 from pathlib import Path
 
+from cli.args import checked, robot_type
+
 EXIT_USAGE = 2
 CONFIG = "job.json"
 
@@ -30,40 +32,11 @@ examples:
 """
 
 
-def _positive_int(value: str) -> int:
-    try:
-        n = int(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, not {value!r}") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, not {n}")
-    return n
-
-
-def _workers(value: str) -> int:
-    try:
-        n = int(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number of workers, not {value!r}") from None
-    if n < 0:
-        raise argparse.ArgumentTypeError(f"workers must be 0 (in this process) or more, not {n}")
-    return n
-
-
-def _sigma(value: str) -> float:
-    try:
-        v = float(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, not {value!r}") from None
-    if not 0 < v < 1e6:
-        raise argparse.ArgumentTypeError(f"sigma must be positive, not {value}")
-    return v
-
-
-def _robot_type(value: str) -> int:
-    if value not in {"0", "1", "2", "3", "4"}:
-        raise argparse.ArgumentTypeError(f"robot type must be 0, 1, 2, 3 or 4, not {value!r}")
-    return int(value)
+_positive_int = checked(int, "expected a whole number", lambda n: n >= 1, "must be at least 1")
+_workers = checked(int, "expected a whole number of workers", lambda n: n >= 0,
+                   "workers must be 0 (in this process) or more")
+_sigma = checked(float, "expected a number", lambda v: 0 < v < 1e6, "sigma must be positive")
+_robot_type = robot_type
 
 
 def _option(value: str) -> tuple[str, str]:

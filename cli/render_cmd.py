@@ -7,6 +7,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from cli.args import checked
+
 EXIT_USAGE = 2
 EXIT_ENVIRONMENT = 1  # rendering impossible here (no OpenGL, no encoder), not the user's input
 
@@ -27,24 +29,9 @@ examples:
 """
 
 
-def _seconds(value: str) -> float:
-    try:
-        v = float(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected seconds, not {value!r}") from None
-    if not v >= 0:
-        raise argparse.ArgumentTypeError(f"seconds must not be negative, not {value}")
-    return v
-
-
-def _fps(value: str) -> float:
-    try:
-        v = float(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected frames per second, not {value!r}") from None
-    if not 0 < v <= 50:
-        raise argparse.ArgumentTypeError(f"fps must be above 0 and at most 50 (the log rate), not {value}")
-    return v
+_seconds = checked(float, "expected seconds", lambda v: v >= 0, "seconds must not be negative")
+_fps = checked(float, "expected frames per second", lambda v: 0 < v <= 50,
+               "fps must be above 0 and at most 50 (the log rate)")
 
 
 def _size(value: str) -> tuple[int, int]:
