@@ -15,13 +15,15 @@ import numpy as np
 from models import nao
 from models.messages import Percept
 from models.rules import CYCLE
-from skills.control import JointPid, PidGains
-from skills.falls import Getup
+from skills.control import UT_KP, JointPid, PidGains
+from skills.falls import UPRIGHT, Getup
 from skills.imu import TiltEstimator
 from skills.walk import WalkEngine, WalkOutput
 
 HEAD = ("hj1", "hj2")
-SETTLE_AFTER_GETUP = 1.0  # s standing still after a getup before the walk may go on
+HOLD_AFTER_GETUP = 1.0  # s the getup's last pose holds once the robot is up
+SETTLE_AFTER_GETUP = 0.5  # s of the walk's stand after that, before the walk may go on
+GETUP_GAINS = (UT_KP, 0.0)  # joint kp (1/s) and feed-forward factor while a getup plays
 
 
 class Motion:
@@ -41,6 +43,9 @@ class Motion:
         self.getup = Getup(robot_type)
         self._recovering = False
         self._settle_until = -1.0
+        self._hold_until = -1.0
+        self._getup_pose: np.ndarray | None = None
+        self._walk_gains = (self.pid.kp.copy(), self.feedforward)
 
     def reset(self) -> None:
         """After a beam, a getup or anything that moved the body by other means."""
@@ -69,18 +74,44 @@ class Motion:
 
         Call it every cycle before walking; when it returns None the body is
         upright and free for the walk (which restarts from standing after a getup).
+        The getups play with UT's joint gains and no feed-forward (they were
+        tuned so; with the walk's stiffer gains most fail), then their last pose
+        holds `HOLD_AFTER_GETUP` s before the walk's stand takes over for
+        `SETTLE_AFTER_GETUP` s.
         """
         target = self.getup.step(percept.time, percept.joints, percept.accel, percept.gyro)
-        if target is None:
-            if self._recovering:  # just up: settle into the walk's stand before walking
-                self._recovering = False
-                self.walk.reset()
-                self._settle_until = percept.time + SETTLE_AFTER_GETUP
-            if percept.time < self._settle_until:
-                return self.walk_step(percept, 0.0, 0.0, 0.0)
-            return None
-        self._recovering = True
-        return self.command(target, percept)
+        if target is None and self.getup.detector.state != UPRIGHT:
+            # Falling, or down but not yet still: go limp in the pose the fall began in.
+            target = percept.joints.copy() if not self._recovering or self._getup_pose is None \
+                else self._getup_pose
+        if target is not None:
+            if not self._recovering:
+                self._recovering = True
+                self._walk_gains = (self.pid.kp.copy(), self.feedforward)
+                self.pid.kp[:] = GETUP_GAINS[0]
+                self.feedforward = GETUP_GAINS[1]
+                self._prev_target = None
+            self._getup_pose = target.copy()
+            self._hold_until = percept.time + HOLD_AFTER_GETUP
+            return self.command(target, percept)
+        if self._recovering:
+            if percept.time < self._hold_until and self._getup_pose is not None:
+                return self.command(self._getup_pose, percept)
+            # Up: the walk's gains again, and its stand before walking.
+            self._recovering = False
+            self.pid.kp[:], self.feedforward = self._walk_gains
+            self.pid.reset()
+            self._prev_target = None
+            self.walk.reset()
+            self._settle_until = percept.time + SETTLE_AFTER_GETUP
+        if percept.time < self._settle_until:
+            return self.walk_step(percept, 0.0, 0.0, 0.0)
+        return None
+
+    @property
+    def recovering(self) -> bool:
+        """True while a getup plays or its last pose holds."""
+        return self._recovering
 
     def walk_step(self, percept: Percept, x: float, y: float, turn: float,
                   set_name: str = "go_to_target", head: np.ndarray | None = None) -> np.ndarray:
