@@ -16,7 +16,7 @@ from models import nao
 from models.messages import Percept
 from models.rules import CYCLE
 from skills.control import UT_KP, JointPid, PidGains
-from skills.falls import UPRIGHT, Getup
+from skills.falls import Getup
 from skills.imu import TiltEstimator
 from skills.walk import WalkEngine, WalkOutput
 
@@ -80,11 +80,12 @@ class Motion:
         `SETTLE_AFTER_GETUP` s.
         """
         target = self.getup.step(percept.time, percept.joints, percept.accel, percept.gyro)
-        if target is None and self.getup.detector.state != UPRIGHT:
-            # Falling, or down but not yet still: go limp in the pose the fall began in.
-            target = percept.joints.copy() if not self._recovering or self._getup_pose is None \
-                else self._getup_pose
+        if target is None and (self.tilt.fallen or (self._recovering and self.getup.detector.fallen)):
+            # Down (the fused tilt past its fall angle) but no getup yet: hold still until
+            # the fall detector has seen the robot lie still on one side.
+            target = percept.joints.copy() if self._getup_pose is None else self._getup_pose
         if target is not None:
+            self.sense(percept)  # the walk, which feeds the tilt estimate, is off
             if not self._recovering:
                 self._recovering = True
                 self._walk_gains = (self.pid.kp.copy(), self.feedforward)
@@ -99,6 +100,7 @@ class Motion:
                 return self.command(self._getup_pose, percept)
             # Up: the walk's gains again, and its stand before walking.
             self._recovering = False
+            self._getup_pose = None
             self.pid.kp[:], self.feedforward = self._walk_gains
             self.pid.reset()
             self._prev_target = None
