@@ -1,0 +1,320 @@
+"""Go to the ball and kick it toward a target, from percepts alone.
+
+The behavior of a lone striker (and of the kick benchmark and kick training
+tasks): it sees the ball through vision percepts (`agent.perception.observe`,
+every third cycle), keeps it in a dead-reckoning frame (`skills.navigate.Odometry`
+fed with the walk's odometry), chooses the kick of least cost
+(`skills.approach.choose_kick`), walks to the kick pose (`skills.approach.Approach`)
+and plays the kick (`skills.kicks.KickSkill`) through `skills.motion.Motion`.
+A fall is recovered by the getups, after which it approaches again.
+
+Frames: the dead-reckoning frame is the ground frame in which the caller
+places the robot at `start` (for example its beam pose in the field frame);
+the ball and the kick target are kept in it (m, rad).
+
+What it knows comes from percepts only: the heading from the gyro, pulled
+toward what seen flags and goal posts say (when `start` is given in the team
+frame); x/y from the walk's odometry, corrected the same way; the torso's tilt
+for vision from the leg kinematics with the loaded sole flat (the IMU estimate
+wobbles with every step); the ball averaged over sightings, plainly while
+standing. Near the ball the approach steers where the torso will stand once
+the walk stops (`stance_pose`), and a stop comes at the next change of support
+instead of after the walk's half second of stepping in place. The getup
+machinery takes over only when the fused tilt estimate leans beyond `LEAN`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from agent.geometry import landmarks_in_team
+from agent.perception import Observation, observe
+from models.messages import Percept
+from models.rules import CYCLE
+from skills.approach import Approach, ApproachCommand, ApproachParams, choose_kick
+from skills.imu import TiltEstimator
+from skills.kicks import KickSkill
+from skills.motion import Motion
+from skills.navigate import Odometry, wrap
+from skills.walk import WalkEngine, WalkParams
+
+HEAD_PITCH = -0.6  # rad: looking down enough to see the ball at the feet
+SMOOTHING = 0.3  # weight of a new ball sighting in the kept estimate while walking
+STILL_WEIGHT = 0.1  # least weight of a new sighting while standing still
+LOST = 4.0  # s without a sighting before the robot turns to look for the ball
+LEAN = math.radians(40.0)  # torso tilt (rad) beyond which the getup machinery takes over
+SOLE_FORCE = 10.0  # N under a sole before it counts as flat on the ground
+LANDMARK_GAIN = 0.2  # share of a landmark fix taken into the dead-reckoned pose per vision frame
+LANDMARK_GATE = math.radians(30.0)  # heading fixes farther off than this are ignored
+
+APPROACH, KICK, DONE = "approach", "kick", "done"
+
+
+@dataclass
+class BallMemory:
+    """The ball (x, y) in the dead-reckoning frame (m), smoothed over sightings, and when
+    it was last seen (s, server time).
+
+    While walking a new sighting weighs `SMOOTHING` (the torso sways and the
+    tilt estimate wobbles); while the robot stands still the estimate is the
+    plain mean of the sightings since it stopped (`still` counts them).
+    """
+
+    position: np.ndarray | None = None
+    seen_at: float = -math.inf
+    still: int = 0  # sightings averaged since the robot last stood still
+
+    def see(self, obs: Observation | None, odo: Odometry, standing: bool = False) -> None:
+        """One cycle: `obs` is this cycle's vision in the level frame (None without vision)."""
+        if not standing:
+            self.still = 0
+        if obs is None or obs.ball is None:
+            return
+        bx, by = float(obs.ball[0]), float(obs.ball[1])
+        c, s = math.cos(odo.heading), math.sin(odo.heading)
+        seen = np.array([odo.x + c * bx - s * by, odo.y + s * bx + c * by])
+        fresh = self.position is None or obs.time - self.seen_at > 1.0
+        if standing:
+            self.still += 1
+            weight = max(1.0 / self.still, STILL_WEIGHT)
+        else:
+            weight = SMOOTHING
+        self.position = seen if fresh else self.position + weight * (seen - self.position)
+        self.seen_at = obs.time
+
+
+class Kicker:
+    """Approach and kick toward a target, cycle by cycle (`act` returns joint velocities).
+
+    kicks: the kicks it may choose from, by name; walk_sets: the walk sets
+    (default: the robot type's shipped ones).
+    """
+
+    def __init__(self, robot_type: int, kicks: Mapping[str, KickSkill],
+                 walk_sets: Mapping[str, WalkParams] | None = None,
+                 approach: ApproachParams | None = None) -> None:
+        if not kicks:
+            raise ValueError("Kicker needs at least one kick")
+        engine = WalkEngine(robot_type, dict(walk_sets)) if walk_sets else WalkEngine(robot_type)
+        self.motion = Motion(robot_type, engine)
+        self.kicks = dict(kicks)
+        self.approach = Approach(engine.sets, approach)
+        self.odo = Odometry()
+        self.ball = BallMemory()
+        self.target = (0.0, 0.0)
+        self.state = APPROACH
+        self.kick: KickSkill | None = None  # the kick chosen (or playing)
+        self.kick_started: float | None = None  # s, server time the kick began
+        self.last: ApproachCommand | None = None
+        self.tilt = TiltEstimator()  # its own, updated every cycle (the walk's only while walking)
+        self.use_landmarks = True
+        self._set = "go_to_target"  # the walk set in use
+        self._recovering = False  # a getup (or the stand after it) has the body
+        self._landmarks: dict[str, np.ndarray] | None = None
+
+    def start(self, pose: tuple[float, float, float], target: tuple[float, float],
+              landmarks: bool = True) -> None:
+        """Begin: the robot stands at `pose` (x, y, heading) and should kick toward `target`.
+
+        landmarks: the pose and target are in the robot's team frame (the field
+        frame for the left team), so seen flags and goal posts correct the
+        dead-reckoned heading and position; False for any other frame."""
+        self.odo = Odometry(*pose)
+        self.use_landmarks = landmarks
+        self.ball = BallMemory()
+        self.target = (float(target[0]), float(target[1]))
+        self.state = APPROACH
+        self.kick = None
+        self.kick_started = None
+        self.approach.reset()
+        self.motion.reset()
+
+    @property
+    def pose(self) -> tuple[float, float, float]:
+        """Dead-reckoned (x, y, heading) (m, rad)."""
+        return self.odo.x, self.odo.y, self.odo.heading
+
+    def ball_relative(self) -> tuple[float, float] | None:
+        """The remembered ball in the robot frame (m), if any."""
+        if self.ball.position is None:
+            return None
+        return self.odo.relative(*self.ball.position)
+
+    def act(self, percept: Percept) -> np.ndarray:
+        """Joint velocities (rad/s, league order) for this cycle."""
+        self.tilt.update(percept.gyro, percept.accel, CYCLE)
+        self._turned(percept)
+        standing = self.state != KICK and self.motion.last is not None and self.motion.last.standing
+        obs = None
+        if percept.vision is not None:
+            obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
+                          self._level(percept))
+            if self.use_landmarks:
+                self._fix(obs, percept.side)
+        self.ball.see(obs, self.odo, standing)
+        # The getup machinery only once the fused tilt estimate says the torso leans
+        # far (its fall detector alone reads the accelerometer, which the walk's
+        # footfalls shake), and then until it hands the body back.
+        leaning = max(abs(self.tilt.pitch), abs(self.tilt.roll)) > LEAN
+        v = self.motion.recover(percept) if leaning or self._recovering else None
+        self._recovering = v is not None
+        if v is not None:  # down or getting up: start the approach over afterwards
+            if self.state == KICK:
+                self.state = APPROACH
+            self.approach.reset()
+            return v
+        if self.state == KICK:
+            assert self.kick is not None
+            target = self.kick.step(percept)
+            if not self.kick.done:
+                return self.motion.command(target, percept)
+            self.state = DONE
+            self.motion.reset()
+        if self.state == DONE:
+            return self._walk(percept, 0.0, 0.0, 0.0)
+        return self._approach(percept)
+
+    def _head(self, percept: Percept) -> np.ndarray:
+        rel = self.ball_relative()
+        yaw = 0.0 if rel is None else max(-1.0, min(1.0, math.atan2(rel[1], rel[0])))
+        return np.array([yaw, HEAD_PITCH])
+
+    def _walk(self, percept: Percept, x: float, y: float, turn: float,
+              set_name: str = "go_to_target") -> np.ndarray:
+        walk = self.motion.walk
+        if set_name != self._set and walk.walking and not self._step_begins():
+            set_name = self._set  # change sets only as a step begins (mid-swing it can trip)
+        self._set = set_name
+        v = self.motion.walk_step(percept, x, y, turn, set_name, head=self._head(percept))
+        if self.motion.last is not None:
+            dx, dy, _ = self.motion.last.odometry
+            self.odo.update(dx, dy, 0.0)
+        return v
+
+    def _turned(self, percept: Percept) -> None:
+        """Heading from the gyro: the yaw rate about the world's vertical (the gyro
+        turned level by the tilt estimate), every cycle, walking or not."""
+        rate = float((self.tilt.level @ np.asarray(percept.gyro, dtype=float))[2])
+        self.odo.heading = wrap(self.odo.heading + rate * CYCLE)
+
+    def stance_pose(self, percept: Percept) -> tuple[float, float, float]:
+        """Where the torso will stand (x, y, heading; dead-reckoning frame, m, rad) if the
+        walk stopped now: over the middle of the feet, facing their mean yaw.
+
+        Walking, the torso sways and twists over the feet; on stopping it settles
+        into the standing pose over the feet where they are. Near the ball the
+        approach steers this pose rather than the swaying torso."""
+        walk = self.motion.walk
+        if self.motion.last is None or self.motion.last.standing:
+            return self.pose
+        level = self._level(percept)
+        ankles = walk.kin.ankle_positions(percept.joints)
+        soles = walk.kin.foot_poses(percept.joints)
+        yaw = 0.0
+        for sole in soles:
+            r = level @ sole[:3, :3]
+            yaw += 0.5 * math.atan2(r[1, 0], r[0, 0])
+        mid = level @ (0.5 * (ankles[0] + ankles[1]))
+        stand = walk.foot_targets(standing=True)
+        mid0 = 0.5 * (stand["l"][0] + stand["r"][0])
+        c, s = math.cos(yaw), math.sin(yaw)
+        ox, oy = mid[0] - (c * mid0[0] - s * mid0[1]), mid[1] - (s * mid0[0] + c * mid0[1])
+        x, y, h = self.pose
+        ch, sh = math.cos(h), math.sin(h)
+        return x + ch * ox - sh * oy, y + sh * ox + ch * oy, wrap(h + yaw)
+
+    def _level(self, percept: Percept) -> np.ndarray:
+        """Torso-to-level rotation for vision: from the leg's kinematics with the
+        sole that bears more weight taken as flat on the ground (steadier than the
+        IMU estimate while stepping, when the accelerometer feels the sway); the
+        IMU estimate when neither foot bears weight."""
+        forces = np.asarray(percept.foot_forces, dtype=float)
+        if forces.size < 2 or float(np.max(forces)) < SOLE_FORCE:
+            return self.tilt.level
+        soles = self.motion.walk.kin.foot_poses(percept.joints)
+        m = soles[int(np.argmax(forces[:2]))][:3, :3].T  # the torso's axes in the sole frame
+        yaw = math.atan2(m[1, 0], m[0, 0])
+        c, s = math.cos(yaw), math.sin(yaw)
+        return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) @ m
+
+    def _fix(self, obs: Observation, side: str) -> None:
+        """Pull the dead-reckoned pose toward what seen flags and goal posts say.
+
+        Two or more landmarks give a pose (the rigid 2D fit of their seen
+        positions onto their known ones); one gives the heading from its bearing
+        and the dead-reckoned position. Each fix moves the pose by `LANDMARK_GAIN`."""
+        if self._landmarks is None or getattr(self, "_side", None) != side:
+            self._landmarks = landmarks_in_team(side)
+            self._side = side
+        pairs = [(self._landmarks[n][:2], obs.landmarks[i][:2]) for i, n in enumerate(obs.landmark_names)
+                 if n in self._landmarks]
+        if not pairs:
+            return
+        known = np.array([k for k, _ in pairs])
+        seen = np.array([o for _, o in pairs])
+        odo = self.odo
+        if len(pairs) >= 2:
+            kc, sc = known.mean(axis=0), seen.mean(axis=0)
+            a, b = known - kc, seen - sc
+            heading = math.atan2(float(np.sum(b[:, 0] * a[:, 1] - b[:, 1] * a[:, 0])),
+                                 float(np.sum(b[:, 0] * a[:, 0] + b[:, 1] * a[:, 1])))
+            c, s = math.cos(heading), math.sin(heading)
+            px, py = kc[0] - (c * sc[0] - s * sc[1]), kc[1] - (s * sc[0] + c * sc[1])
+        else:
+            bearing = math.atan2(seen[0, 1], seen[0, 0])
+            heading = math.atan2(known[0, 1] - odo.y, known[0, 0] - odo.x) - bearing
+            px, py = odo.x, odo.y
+        dh = wrap(heading - odo.heading)
+        if abs(dh) > LANDMARK_GATE:
+            return
+        rel = self.ball_relative()
+        odo.heading = wrap(odo.heading + LANDMARK_GAIN * dh)
+        odo.x += LANDMARK_GAIN * (px - odo.x)
+        odo.y += LANDMARK_GAIN * (py - odo.y)
+        if rel is not None:  # the ball was seen from the robot: it moves with the correction
+            c, s = math.cos(odo.heading), math.sin(odo.heading)
+            self.ball.position = np.array([odo.x + c * rel[0] - s * rel[1], odo.y + s * rel[0] + c * rel[1]])
+
+    def _approach(self, percept: Percept) -> np.ndarray:
+        b = self.ball.position
+        if b is None or percept.time - self.ball.seen_at > LOST:
+            self.approach.reset()
+            return self._walk(percept, 0.0, 0.0, 0.4)  # turn on the spot to look for it
+        robot = self.pose
+        current = None if self.kick is None else self.kick.spec.name
+        spec = choose_kick(robot, b, self.target, [k.spec for k in self.kicks.values()], current)
+        if current is not None and spec.name != current:
+            self.approach.reset()
+        self.kick = self.kicks[spec.name]
+        standing = self.motion.last is not None and self.motion.last.standing
+        # Near the ball the approach steers where the torso will stand, not the swaying torso.
+        pose = self.stance_pose(percept) if self.approach.near else robot
+        cmd = self.approach.step(pose, b, self.target, spec, standing)
+        self.last = cmd
+        if cmd.ready and standing:
+            self.state = KICK
+            self.kick_started = percept.time
+            self.kick.reset(self.ball_relative())
+            return self.motion.command(self.kick.step(percept), percept)
+        if cmd.mode == "stop":
+            self._quick_stop()
+        return self._walk(percept, cmd.x, cmd.y, cmd.turn, cmd.set_name)
+
+    def _step_begins(self) -> bool:
+        """True in the first cycles of a walk step, with both feet still down."""
+        walk = self.motion.walk
+        return walk.phi - walk.phi_start < 1e-9 + CYCLE / walk.params.phase_length
+
+    def _quick_stop(self) -> None:
+        """Stand at the next change of support rather than after the walk's half second
+        of stepping in place (in which this walk drifts back and turns): the feet
+        are both down then."""
+        if self.motion.walk.walking and self._step_begins():
+            self.motion.walk.reset()
+
+
+__all__ = ["APPROACH", "DONE", "KICK", "BallMemory", "Kicker"]

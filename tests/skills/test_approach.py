@@ -1,0 +1,188 @@
+"""The ball approach (skills/approach.py) and the percept-only kicker (agent/kicker.py).
+
+Geometry tests need no physics. The physics test drives `agent.kicker.Kicker`
+from its percepts alone (vision on, seeded) and reads the truth only to judge:
+the robot stops with the ball inside the kick's box, facing the target, without
+touching the ball or falling.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from skills.approach import (
+    BALL_PENALTY,
+    Approach,
+    ApproachParams,
+    ball_in_path,
+    choose_kick,
+    decel_speed,
+    kick_cost,
+    kick_pose,
+)
+from skills.kicks import KickSpec
+from skills.walk import default_param_files, load_walk_sets
+
+LEFT = KickSpec("hold_l", "l", (0.17, 0.05), (0.03, 0.03, math.radians(8)))
+RIGHT = KickSpec("hold_r", "r", (0.17, -0.05), (0.03, 0.03, math.radians(8)))
+TARGET = (10.0, 0.0)
+
+
+def test_kick_pose_puts_the_ball_at_the_spec_offset_facing_the_target():
+    x, y, h = kick_pose((1.0, 0.0), TARGET, LEFT)
+    assert (x, y, h) == pytest.approx((0.83, -0.05, 0.0))
+    # Seen from the pose, the ball lies at the spec's offset.
+    c, s = math.cos(h), math.sin(h)
+    assert (c * (1.0 - x) + s * (0.0 - y), -s * (1.0 - x) + c * (0.0 - y)) == pytest.approx(LEFT.ball)
+
+
+def test_kick_pose_of_a_directional_kick_turns_by_the_kick_angle():
+    spec = KickSpec("side", "r", (0.1, 0.0), (0.03, 0.03, 0.1), direction=math.radians(45))
+    x, y, h = kick_pose((0.0, 0.0), (0.0, 5.0), spec)  # the ball must go along +y
+    assert h == pytest.approx(math.radians(45))
+    assert (x, y) == pytest.approx((-0.1 * math.cos(h), -0.1 * math.sin(h)))
+
+
+@pytest.mark.parametrize("side, foot", [(-0.6, "hold_l"), (0.6, "hold_r")])
+def test_the_foot_on_the_robots_side_costs_less(side, foot):
+    # Behind the ball and off to one side: the kick whose pose lies on that side wins.
+    robot = (-1.0, side, 0.0)
+    assert choose_kick(robot, (0.0, 0.0), TARGET, [LEFT, RIGHT]).name == foot
+
+
+def test_ball_in_path_costs_the_penalty():
+    ball = (0.0, 0.0)
+    ahead = (0.8, -0.05, math.pi)  # in front of the ball, on the kick line
+    pose = kick_pose(ball, TARGET, LEFT)
+    assert ball_in_path(ahead, pose, ball)
+    plain = math.hypot(pose[0] - ahead[0], pose[1] - ahead[1]) + abs(math.pi) / (2 * math.pi)
+    assert kick_cost(ahead, ball, TARGET, LEFT) == pytest.approx(plain + BALL_PENALTY)
+    behind = (-1.0, -0.05, 0.0)
+    assert not ball_in_path(behind, pose, ball)
+    assert kick_cost(behind, ball, TARGET, LEFT) == pytest.approx(math.hypot(pose[0] + 1.0, 0.0))
+
+
+def test_choose_kick_keeps_the_current_kick_unless_another_is_clearly_cheaper():
+    robot = (-1.0, -0.01, 0.0)  # barely right of the line: the left-foot pose is closer
+    assert choose_kick(robot, (0, 0), TARGET, [LEFT, RIGHT]).name == "hold_l"
+    assert choose_kick(robot, (0, 0), TARGET, [LEFT, RIGHT], current="hold_r").name == "hold_r"
+    far = (-0.5, -1.0, 0.0)
+    assert choose_kick(far, (0, 0), TARGET, [LEFT, RIGHT], current="hold_r").name == "hold_l"
+
+
+def test_decel_speed_is_monotone_signed_and_zero_inside_the_buffer():
+    a, buf = 0.15, 0.005
+    d = np.linspace(0.0, 1.0, 201)
+    v = np.array([decel_speed(x, a, buf) for x in d])
+    assert np.all(np.diff(v) >= 0.0)
+    assert decel_speed(buf, a, buf) == 0.0 and decel_speed(0.0, a, buf) == 0.0
+    assert decel_speed(-0.3, a, buf) == -decel_speed(0.3, a, buf) < 0.0
+    assert decel_speed(0.5, a, buf) == pytest.approx(math.sqrt(2 * a * 0.5))  # UT's rule beyond 2 BUFFER
+
+
+def test_shipped_parameters_load():
+    p = ApproachParams.load()
+    assert 0.0 < p.max_decel_x < 1.0 and 0.0 < p.max_decel_y < 1.0 and p.buffer == pytest.approx(0.005)
+
+
+def test_approach_is_ready_only_after_standing_still_in_the_box():
+    appr = Approach(load_walk_sets(default_param_files(0)))
+    ball = (0.0, 0.0)
+    pose = kick_pose(ball, TARGET, LEFT)
+    far = appr.step((-1.5, 0.4, 0.0), ball, TARGET, LEFT)
+    assert far.mode in ("walk", "around") and not far.ready and far.set_name == "go_to_target"
+    appr.reset()
+    there = (pose[0] + 0.005, pose[1], pose[2])  # just past the pose (the creep stops at it)
+    cmds = [appr.step(there, ball, TARGET, LEFT, standing=True) for _ in range(40)]
+    assert cmds[0].mode == "stop" and not cmds[0].ready  # stops first ...
+    assert cmds[-1].ready and (cmds[-1].x, cmds[-1].y, cmds[-1].turn) == (0.0, 0.0, 0.0)  # ... then ready
+    appr.reset()
+    turned = (there[0], there[1], math.radians(20))
+    assert not any(appr.step(turned, ball, TARGET, LEFT, standing=True).ready for _ in range(40))
+
+
+def test_going_round_the_ball_never_cuts_through_it():
+    appr = Approach(load_walk_sets(default_param_files(0)))
+    g = (-0.17, 0.05)  # the pose in the kick frame (LEFT)
+    for angle in np.radians(np.arange(-170, 180, 20)):
+        for dist in (0.45, 1.0, 2.0):
+            r = (dist * math.cos(angle), dist * math.sin(angle))
+            behind = r[0] < g[0] and abs(r[1] - g[1]) < 0.1
+            wu, wv, mode = appr.waypoint(r, g, behind)
+            if mode == "around":
+                assert math.hypot(wu, wv) >= appr.params.around - 1e-9
+            assert not ball_in_path(r, (wu, wv), (0.0, 0.0), clearance=0.12), (angle, dist, mode)
+
+
+# ------------------------------------------------------------------ physics
+
+
+class Hold:
+    """A kick that does nothing: the test only judges where the approach stopped."""
+
+    def __init__(self, spec):
+        self.spec = spec
+        self.n = 0
+
+    def reset(self, ball=None):
+        self.n = 0
+
+    def step(self, percept):
+        self.n += 1
+        return np.full(len(percept.joints), np.nan)
+
+    @property
+    def done(self):
+        return self.n > 5
+
+
+def approach(robot_type, start, seconds=20.0, seed=0):
+    """Run the kicker from `start` (x, y, heading; field frame) to a ball at the origin,
+    kicking toward +x; returns (ready time or None, true ball in the robot frame,
+    true heading, how far the ball moved, fell)."""
+    from agent.kicker import KICK, Kicker
+    from models.messages import Action
+    from models.scene import Lineup
+    from optimization.phases import WalkAgent
+    from server.trainer import Trainer
+
+    tr = Trainer(Lineup((robot_type,), ()), seed=seed)
+    w = tr.world
+    w.place_ball(np.array([0.0, 0.0]))
+    kicker = Kicker(robot_type, {"hold_l": Hold(LEFT), "hold_r": Hold(RIGHT)})
+    w.place_robot(0, *start, joints=WalkAgent(robot_type, kicker.motion.walk.sets).stand_pose())
+    w.settle_height(0)
+    kicker.start(start, TARGET)
+    ready, fell = None, False
+    while w.time < seconds:
+        v = kicker.act(tr.percepts()[0])
+        tr.step({0: Action(v)})
+        fell = fell or w.torso_up()[0] < 0.5
+        if kicker.state == KICK:
+            ready = w.time
+            break
+    x, y, h = w.player_pose(0)
+    b = w.ball_position()
+    c, s = math.cos(h), math.sin(h)
+    rel = (c * (b[0] - x) + s * (b[1] - y), -s * (b[0] - x) + c * (b[1] - y))
+    return ready, rel, h, float(np.linalg.norm(b[:2])), fell, kicker.kick.spec
+
+
+def test_approach_stops_in_the_box_without_touching_the_ball():
+    # From 1.3-1.4 m behind the ball, 30-40 deg to either side, facing it: percepts
+    # only (vision every third cycle, noisy), truth only to judge. The walk is
+    # chaotic at this scale (a stop turns the robot by about 5 deg at random), so the
+    # test asks two of three seeded approaches to succeed and none to fall. Box: the
+    # kick's tolerance plus 1.5 cm and 3 deg (what the robot sees while standing is
+    # off by about that much).
+    ok = 0
+    for dist, angle in ((1.4, 150), (1.3, 140), (1.3, -140)):
+        a = math.radians(angle)
+        start = (dist * math.cos(a), dist * math.sin(a), a + math.pi)
+        ready, rel, heading, moved, fell, spec = approach(0, start)
+        assert not fell, angle
+        tx, ty, th = spec.tolerance
+        ok += (ready is not None and moved < 0.02 and abs(rel[0] - spec.ball[0]) < tx + 0.015
+               and abs(rel[1] - spec.ball[1]) < ty + 0.015 and abs(heading) < th + math.radians(3))
+    assert ok >= 2
