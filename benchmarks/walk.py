@@ -14,7 +14,8 @@ JSON line per robot type:
 Goals for the hand-tuned defaults (issue 3): forward >= 0.3 m/s, sideways
 >= 0.15 m/s, turning >= 60 deg/s, no falls on the course.
 
-    python -m benchmarks.walk [--types 0,1,2,3,4] [--seconds 10]
+    python -m benchmarks.walk [--types 0,1,2,3,4] [--seconds 10] [--course-runs N]
+                              [--params FILE ...] [--skip-speeds] [--getup-tries N]
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from models.scene import Lineup
 from server.trainer import Trainer
 from skills.motion import Motion
 from skills.navigate import Odometry, walk_toward, wrap
+from skills.walk import WalkEngine, default_param_files, load_walk_sets
 
 # (x, y, stop seconds) relative to the start, facing +x; stops of 0 are pass-through.
 COURSE = [
@@ -42,12 +44,20 @@ COURSE = [
 REACHED = 0.2  # m
 
 
-def new_robot(t: int) -> tuple[Trainer, Motion]:
+PARAMS: list[str] = []  # walk parameter files loaded after the shipped ones (--params)
+
+
+def new_robot(t: int, rng: np.random.Generator | None = None) -> tuple[Trainer, Motion]:
+    """A standing robot of type t; with `rng`, its start joints perturbed (sigma 0.01 rad)."""
     tr = Trainer(Lineup((t,), ()), vision=False)
-    mo = Motion(t)
+    tr.world.place_ball((10.0, 8.0))  # out of the way (it starts on the center spot, under the robot)
+    mo = Motion(t, WalkEngine(t, load_walk_sets([*default_param_files(t), *PARAMS])))
     q0 = mo.walk.update(0.0, 0.0, 0.0).targets
     mo.reset()
-    tr.world.place_robot(0, 0.0, 0.0, 0.0, joints=np.where(np.isnan(q0), 0.0, q0))
+    q0 = np.where(np.isnan(q0), 0.0, q0)
+    if rng is not None:
+        q0 = q0 + rng.normal(0.0, 0.01, q0.shape)
+    tr.world.place_robot(0, 0.0, 0.0, 0.0, joints=q0)
     tr.world.settle_height(0)
     return tr, mo
 
@@ -79,10 +89,10 @@ def constant_walk(t: int, cmd: tuple[float, float, float], seconds: float) -> di
             "fell": fallen(tr), "seconds": round(dt, 2)}
 
 
-def course(t: int, limit: float = 240.0) -> dict:
+def course(t: int, limit: float = 240.0, rng: np.random.Generator | None = None) -> dict:
     """Walk the course by dead reckoning; a fallen robot gets up with its getup skills
     (from its percepts) and goes on. Falls while walking and getups started are counted."""
-    tr, mo = new_robot(t)
+    tr, mo = new_robot(t, rng)
     odo = Odometry()
     falls, k, stop_left, cycles, was_down = 0, 0, None, 0, False
     while k < len(COURSE) and cycles * 0.02 < limit:
@@ -129,22 +139,38 @@ def main() -> None:
     ap.add_argument("--types", default="0,1,2,3,4")
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--getup-tries", type=int, default=20)
+    ap.add_argument("--course-runs", type=int, default=1,
+                    help="course runs per type; runs after the first start from perturbed joints")
+    ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
+                    help="walk parameter files loaded after the shipped ones (e.g. a CMA-ES best.txt)")
+    ap.add_argument("--skip-speeds", action="store_true", help="only the course (and getups)")
     args = ap.parse_args()
+    PARAMS[:] = args.params
+    for t in (int(v) for v in args.types.split(",")):
+        try:  # a bad file fails here, with file:line
+            load_walk_sets([*default_param_files(t), *PARAMS])
+        except (OSError, ValueError) as err:
+            ap.error(str(err))
     info = machine()
     for t in (int(v) for v in args.types.split(",")):
         start = time.perf_counter()
-        fwd = constant_walk(t, (1.0, 0.0, 0.0), args.seconds)
-        back = constant_walk(t, (-1.0, 0.0, 0.0), args.seconds)
-        side = constant_walk(t, (0.0, 1.0, 0.0), args.seconds)
-        turn = constant_walk(t, (0.0, 0.0, 1.0), args.seconds)
-        row = {
-            "benchmark": "walk", "type": t,
-            "forward_m_s": round(fwd["vx"], 3), "backward_m_s": round(-back["vx"], 3),
-            "sideways_m_s": round(side["vy"], 3), "turn_deg_s": round(turn["turn_deg_s"], 1),
-            "falls_in_speed_runs": sum(r["fell"] for r in (fwd, back, side, turn)),
-            "course": course(t), "getup": getups(t, args.getup_tries),
-            "wall_seconds": round(time.perf_counter() - start, 1), "machine": info,
-        }
+        row: dict = {"benchmark": "walk", "type": t, "params": args.params}
+        if not args.skip_speeds:
+            fwd = constant_walk(t, (1.0, 0.0, 0.0), args.seconds)
+            back = constant_walk(t, (-1.0, 0.0, 0.0), args.seconds)
+            side = constant_walk(t, (0.0, 1.0, 0.0), args.seconds)
+            turn = constant_walk(t, (0.0, 0.0, 1.0), args.seconds)
+            row.update({
+                "forward_m_s": round(fwd["vx"], 3), "backward_m_s": round(-back["vx"], 3),
+                "sideways_m_s": round(side["vy"], 3), "turn_deg_s": round(turn["turn_deg_s"], 1),
+                "falls_in_speed_runs": sum(r["fell"] for r in (fwd, back, side, turn))})
+        rng = np.random.default_rng(t)
+        runs = [course(t, rng=None if k == 0 else rng) for k in range(max(1, args.course_runs))]
+        row["course"] = runs[0] if len(runs) == 1 else {
+            "runs": len(runs), "falls": [r["falls"] for r in runs],
+            "reached": [r["reached"] for r in runs], "seconds": [r["seconds"] for r in runs]}
+        row.update({"getup": getups(t, args.getup_tries),
+                    "wall_seconds": round(time.perf_counter() - start, 1), "machine": info})
         print(json.dumps(row), flush=True)
 
 
