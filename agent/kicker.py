@@ -109,6 +109,7 @@ class Kicker:
         self.state = APPROACH
         self.kick: KickSkill | None = None  # the kick chosen (or playing)
         self.kick_started: float | None = None  # s, server time the kick began
+        self._final: np.ndarray | None = None  # the finished kick's last targets (held while DONE)
         self.last: ApproachCommand | None = None
         self.tilt = TiltEstimator()  # its own, updated every cycle (the walk's only while walking)
         self.use_landmarks = True
@@ -130,6 +131,7 @@ class Kicker:
         self.state = APPROACH
         self.kick = None
         self.kick_started = None
+        self._final = None
         self.approach.reset()
         self.motion.reset()
 
@@ -173,8 +175,10 @@ class Kicker:
             if not self.kick.done:
                 return self.motion.command(target, percept)
             self.state = DONE
-            self.motion.reset()
+            self._final = target.copy()
         if self.state == DONE:
+            if self._final is not None:  # after a kick: hold its last (standing) pose; the walk's
+                return self.motion.command(self._final, percept)  # stop-jog tips robots over
             return self._walk(percept, 0.0, 0.0, 0.0)
         return self._approach(percept)
 
