@@ -124,6 +124,18 @@ PARAM_SETS["analytic"] = ParamSetDef(
     specs=tuple(ParamSpec(n, 1.0) for n in ANALYTIC_NAMES), start={n: 0.0 for n in ANALYTIC_NAMES})
 
 
+# The getup skills' sets, "getup_front" (front_*) and "getup_back" (back_*): optimization.getup.
+from optimization.getup import getup_param_set  # noqa: E402
+
+PARAM_SETS.update({n: getup_param_set(n) for n in ("getup_front", "getup_back")})
+
+# The keyframe kick sets of the shipped kick files ("kick", "long_kick", "kick_5m", ...):
+# optimization.kick.
+from optimization.kick import kick_param_set, shipped_kick_sets  # noqa: E402
+
+PARAM_SETS.update({n: kick_param_set(n) for n in shipped_kick_sets()})
+
+
 def param_set(name: str) -> ParamSetDef:
     try:
         return PARAM_SETS[name]

@@ -21,15 +21,19 @@ Registered tasks (`TASKS`, built by `make_task(name, robot_type, **options)`):
   varied starts around it, seeing it only through vision percepts; learns the
   position-to-dribble set with go-to-target and sprint frozen
   (`optimization.dribble`).
+* ``getup_front``, ``getup_back`` (A, L1,1 / L1,2): lying on the front or back,
+  get up from percepts; fitness -(time not standing) over 4 s (`optimization.getup`).
 * ``sphere``, ``rosenbrock``: shifted analytic functions of ``dim``
   coordinates (``noise``: Gaussian noise per trial), for testing the machinery.
 
-Not registered until their skills exist in parameterized form: getup front and
-back (fitness -timeNotStanding over 4 s; `skills.falls.Getup` exists, but its
-skill files have no ``$parameters`` to learn), and the fixed-distance, long
-and walking-approach kicks (no kick skills yet). Each plugs in as a dataclass
-with the fields above and an entry in `TASKS`, its parameter set (the skill
-file's ``$parameters``: `skills.skill.SkillSource.schema`) in `PARAM_SETS`.
+* ``kick_distance`` (``distance``, ``set``), ``long_kick``, ``kick_walking``
+  (Appendix A's fixed-distance kicks, long kick and kick from a walking
+  approach): keyframe kicks in physics, fitness from where the ball stops
+  (`optimization.kick`).
+
+A new task plugs in as a dataclass with the fields above and an entry in
+`TASKS`, its parameter set (the skill file's ``$parameters``:
+`skills.skill.SkillSource.schema`) in `PARAM_SETS`.
 
 Trial randomness: every trial draws its variations (mirrored course, a
 heading of the course on the field, joint angles perturbed at the start)
@@ -47,6 +51,8 @@ from typing import Protocol
 
 import numpy as np
 
+from optimization.getup import getup_back, getup_front
+from optimization.kick import kick_distance, kick_walking, long_kick
 from optimization.paramvec import ANALYTIC_NAMES, Values, param_set
 from optimization.phases import (
     FALL_PENALTY,
@@ -315,6 +321,11 @@ TASKS: dict[str, Callable[..., Task]] = {
     "sprint": sprint,
     "walk_forward": walk_forward,
     "position_to_dribble": position_to_dribble,
+    "getup_front": getup_front,  # optimization.getup
+    "getup_back": getup_back,
+    "kick_distance": kick_distance,  # optimization.kick
+    "long_kick": long_kick,
+    "kick_walking": kick_walking,
     "sphere": _analytic("sphere"),
     "rosenbrock": _analytic("rosenbrock"),
 }

@@ -1,0 +1,85 @@
+"""Kick benchmark: success, distance, direction error and time to contact, per kick and type.
+
+For each kick and robot type, `--tries` kicks in each mode, seeded, as
+`optimization.kick.kick_trial` runs them: "standing" (the robot stands at the
+kick's pose behind the ball and kicks along its own direction) and "walking"
+(it starts 1 to 2 m from the ball at a random bearing and approaches to kick
+toward a target in a random direction), driven by `agent.kicker.Kicker` from
+percepts alone. Success: the ball moved at least 1 m toward the target and the
+robot did not fall. Distance: the ball's travel to its stop; direction error:
+its travel direction against the target's; time to contact: from the start
+of the trial to the kicking robot's first touch.
+
+Prints the machine, then one JSON line per kick, robot type and mode.
+
+    python -m benchmarks.kick [--types 0] [--kicks kick_left ik_forward_left] [--tries 20]
+                              [--modes standing walking] [--seed 0]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+
+import numpy as np
+from tqdm import tqdm
+
+from benchmarks.machine import machine
+from optimization.kick import kick_trial
+from skills.kicks import KickSkill, all_kicks
+
+
+def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: int,
+               progress: tqdm | None = None) -> dict:
+    """Aggregate of `tries` kicks (one JSON row)."""
+    rng = np.random.default_rng([seed, robot_type, sum(map(ord, kick.spec.name)), len(mode)])
+    rows = []
+    wall = time.perf_counter()
+    for i in range(tries):
+        rows.append(kick_trial(robot_type, kick, mode, rng, seed * 1000 + i))
+        if progress is not None:
+            progress.update()
+    dist = np.array([r["distance"] for r in rows])
+    errs = [r["direction_error"] for r in rows if r["direction_error"] is not None]
+    contact = [r["contact_s"] for r in rows if r["contact_s"] is not None]
+    return {
+        "kick": kick.spec.name, "robot_type": robot_type, "mode": mode, "tries": tries,
+        "success_rate": round(sum(r["success"] for r in rows) / tries, 3),
+        "distance_mean_m": round(float(dist.mean()), 2), "distance_std_m": round(float(dist.std()), 2),
+        "direction_error_mean_deg": round(float(np.mean(errs)), 1) if errs else None,
+        "falls": sum(r["fell"] for r in rows), "kicks_started": sum(r["kicked"] for r in rows),
+        "time_to_contact_mean_s": round(float(np.mean(contact)), 2) if contact else None,
+        "nominal_distance_m": kick.spec.distance,
+        "wall_s": round(time.perf_counter() - wall, 1),
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--types", type=int, nargs="+", default=[0], choices=range(5), metavar="T")
+    ap.add_argument("--kicks", nargs="+", default=None, help="kick names (default: every shipped kick)")
+    ap.add_argument("--modes", nargs="+", default=["standing", "walking"], choices=("standing", "walking"))
+    ap.add_argument("--tries", type=int, default=20)
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args(argv)
+    if args.tries < 1:
+        ap.error(f"--tries must be at least 1, not {args.tries}")
+    print(json.dumps({"machine": machine()}), flush=True)
+    jobs = []
+    for t in args.types:
+        kicks = all_kicks(t)
+        names = args.kicks or list(kicks)
+        unknown = [n for n in names if n not in kicks]
+        if unknown:
+            ap.error(f"unknown kick(s) {', '.join(unknown)}; known: {', '.join(kicks)}")
+        jobs += [(t, kicks[n], m) for n in names for m in args.modes]
+    with tqdm(total=len(jobs) * args.tries, desc="kicks", unit="kick", file=sys.stderr) as bar:
+        for t, kick, mode in jobs:
+            print(json.dumps(kick_stats(t, kick, mode, args.tries, args.seed, bar)), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

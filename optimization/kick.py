@@ -1,0 +1,251 @@
+"""Kick trials and the kick optimization tasks (dissertation Appendix A: fixed-distance
+kicks, the long kick, the kick from a walking approach).
+
+`kick_trial` is one kick in a fresh one-robot world, shared with
+`benchmarks/kick.py`. The robot is driven by `agent.kicker.Kicker` from its
+percepts alone (vision every third cycle, dead reckoning from the start pose,
+as after a beam); ground truth only measures:
+
+* standing: the robot stands at the kick's pose behind the ball (within 1 cm
+  and 2 deg), watches the ball for `LOOK` s, then kicks toward the kick's own
+  direction;
+* walking: it starts 1 to 2 m from the ball at a random bearing, facing the
+  ball, and must approach and kick toward a target in a random direction.
+
+Measured: the ball's travel until it stops (or `ROLL_LIMIT` s after contact),
+its progress toward the target, its direction error, whether the robot fell
+(torso up-vector z < 0.5 at any time) and the time from the start to the
+robot's first contact with the ball during the kick.
+
+Tasks (fitness higher is better; `FALL_PENALTY` per fall):
+
+* ``kick_distance`` (``distance=D``): a standing kick should stop the ball at
+  D m straight along its direction; fitness = -(distance from the ball's stop
+  to that point) (m). Learns the keyframe kick set given by ``set=`` (default
+  ``kick``).
+* ``long_kick``: a standing kick as far as possible along its direction;
+  fitness = progress toward the target (m) - |lateral miss| / 2.
+* ``kick_walking``: approach from 1-2 m and kick; fitness = progress toward
+  the target (m) - 0.2 x seconds until contact.
+
+Frames: the field frame (m, rad).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from agent.kicker import DONE, KICK, Kicker
+from models.messages import Action
+from models.scene import Lineup
+from optimization.phases import FALL_PENALTY, WalkAgent
+from server.trainer import Trainer
+from skills.approach import kick_pose
+from skills.kick import (
+    BASE_SET,
+    FOOT_NAME,
+    KICK_FILE,
+    KeyframeKick,
+    kick_schema,
+    load_kick_sets,
+    make_keyframe_kick,
+)
+from skills.kick import default_param_files as kick_param_files
+from skills.kicks import KickSkill
+from skills.params import UNITS
+from skills.skill import read_skills, skill_path
+
+if TYPE_CHECKING:  # optimization.paramvec and .task import this module
+    from optimization.paramvec import ParamSetDef, Values
+    from optimization.task import TrialResult
+
+BALL = (-5.0, 0.0)  # m, field frame: where the ball starts
+APPROACH_LIMIT = 25.0  # s to reach the ball and start the kick
+ROLL_LIMIT = 8.0  # s after contact for the ball to stop
+STOPPED = 0.02  # m/s: the ball counts as stopped below this speed
+FALLEN_UP = 0.5  # torso up-vector z below which the robot has fallen
+MIN_TOWARD = 1.0  # m toward the target for a success
+LOOK = 0.4  # s a standing robot watches the ball before kicking
+MODES = ("standing", "walking")
+
+
+def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Generator,
+               seed: int) -> dict:
+    """One kick (`mode` "standing" or "walking"); its measurements (m, deg, s; ground truth)."""
+    if mode not in MODES:
+        raise ValueError(f"mode must be one of {', '.join(MODES)}, not {mode!r}")
+    tr = Trainer(Lineup((robot_type,), ()), seed=seed)
+    w = tr.world
+    ball = np.array(BALL)
+    w.place_ball(ball)
+    kicker = Kicker(robot_type, {kick.spec.name: kick})
+    if mode == "standing":
+        target_dir = kick.spec.direction
+        target = ball + 10.0 * np.array([math.cos(target_dir), math.sin(target_dir)])
+        x, y, h = kick_pose(ball, target, kick.spec)
+        x, y = x + rng.normal(0.0, 0.01), y + rng.normal(0.0, 0.01)
+        heading = h + math.radians(rng.normal(0.0, 2.0))
+    else:
+        d, a = rng.uniform(1.0, 2.0), rng.uniform(-math.pi, math.pi)
+        x, y = ball[0] + d * math.cos(a), ball[1] + d * math.sin(a)
+        heading = math.atan2(ball[1] - y, ball[0] - x)
+        target_dir = rng.uniform(-math.pi, math.pi)
+        target = ball + 10.0 * np.array([math.cos(target_dir), math.sin(target_dir)])
+    stand = WalkAgent(robot_type, kicker.motion.walk.sets).stand_pose()
+    w.place_robot(0, x, y, heading, joints=stand)
+    w.settle_height(0)
+    kicker.start((x, y, heading), (float(target[0]), float(target[1])))
+    if mode == "standing":
+        kicker.state = DONE  # stands still, watching the ball, until told to kick
+    t0 = w.time
+    contact = None
+    fell = False
+    end = t0 + APPROACH_LIMIT
+    while w.time < end:
+        percept = tr.percepts()[0]
+        if mode == "standing" and kicker.kick_started is None and w.time - t0 >= LOOK \
+                and kicker.ball.position is not None:
+            kicker.state, kicker.kick, kicker.kick_started = KICK, kick, percept.time
+            kick.reset(kicker.ball_relative())
+        touched = tr.step({0: Action(kicker.act(percept))})
+        fell = fell or bool(w.torso_up()[0] < FALLEN_UP)
+        if kicker.state == KICK and contact is None:
+            end = max(end, w.time + 1.0)  # a kick that started always gets to finish
+        if contact is None and 0 in touched and kicker.state in (KICK, DONE):
+            contact = w.time - t0
+            end = w.time + ROLL_LIMIT
+        if contact is not None and kicker.state == DONE and np.linalg.norm(w.ball_velocity()[:2]) < STOPPED:
+            break
+    moved = w.ball_position()[:2] - ball
+    u = np.array([math.cos(target_dir), math.sin(target_dir)])
+    toward = float(moved @ u)
+    lateral = float(moved[1] * u[0] - moved[0] * u[1])
+    dist = float(np.linalg.norm(moved))
+    err = (abs(math.degrees(math.remainder(math.atan2(moved[1], moved[0]) - target_dir, 2 * math.pi)))
+           if dist > 0.1 else None)
+    return {"distance": dist, "toward": toward, "lateral": lateral, "direction_error": err,
+            "fell": fell, "contact_s": contact, "kicked": kicker.kick_started is not None,
+            "success": toward >= MIN_TOWARD and not fell, "sim_s": round(w.time, 2)}
+
+
+# ----------------------------------------------------------------- parameter sets
+
+# Optimization scales (CMA-ES sigma) and bounds by unit, file units (waits in s; the
+# balance gains and the slew rate have their own below).
+_SIGMA = {"deg": 6.0, "s": 0.04, "mm": 8.0}
+_BOUNDS = {"deg": (-200.0, 200.0), "s": (0.02, 1.5), "mm": (-300.0, 300.0)}
+FIXED = ("tol_x", "tol_y", "tol_angle", "distance", "direction")  # spec fields never learned
+
+
+def kick_param_set(set_name: str) -> ParamSetDef:
+    """A keyframe kick's parameter set (prefix ``<set>_``): the skill's ``$parameters``
+    and the ball offset, with sigma and bounds by unit; it inherits the ``kick`` set."""
+    from optimization.paramvec import ParamSetDef, ParamSpec
+
+    schema = kick_schema()
+    specs = []
+    for n, u in schema.items():
+        if n in FIXED:
+            continue
+        if n.startswith("bal_"):  # balance feedback gains (1, or s for the gyro terms): any sign
+            specs.append(ParamSpec(n, 0.02 if u == "s" else 0.1))
+        elif n == "slew":  # deg/s of the slow keyframes
+            specs.append(ParamSpec(n, 20.0, 10.0, 2000.0))
+        else:
+            specs.append(ParamSpec(n, _SIGMA.get(u, 0.05), *_BOUNDS.get(u, (-math.inf, math.inf))))
+    specs = tuple(specs)
+    return ParamSetDef(name=set_name, prefix=f"{set_name}_", schema=schema, specs=specs,
+                       defaults=kick_param_files, inherit=None if set_name == BASE_SET else BASE_SET)
+
+
+def shipped_kick_sets() -> tuple[str, ...]:
+    """The keyframe kick sets of the shipped files ("kick", "long_kick", "kick_5m", ...)."""
+    return tuple(load_kick_sets(kick_param_files(None)))
+
+
+def keyframe_kick(values: Values, set_name: str, robot_type: int, foot: str = "l") -> KeyframeKick:
+    """The keyframe kick of `set_name` bound to `values[set_name]` (file units) over the shipped
+    values of the robot type."""
+    source = read_skills(skill_path(KICK_FILE))
+    sets = load_kick_sets(kick_param_files(robot_type), source)
+    base = dict(sets.get(set_name, sets[BASE_SET]))
+    schema = kick_schema(source)
+    for n, v in values.get(set_name, {}).items():
+        base[n] = float(v) * UNITS[schema[n]]
+    return make_keyframe_kick(source, set_name, base, foot, robot_type)
+
+
+# ----------------------------------------------------------------------- tasks
+
+KINDS = ("kick_distance", "long_kick", "kick_walking")
+
+
+@dataclass(frozen=True)
+class KickTask:
+    """A keyframe kick trial; see the module docstring for the kinds and their fitness.
+
+    kind: one of `KINDS`; set: the learned keyframe kick set; distance: m, the
+    fixed-distance kick's target; feet: trials alternate feet when 2, else left.
+    """
+
+    name: str = "kick_distance"
+    robot_type: int = 0
+    set: str = BASE_SET
+    distance: float = 5.0
+    feet: int = 2
+
+    def __post_init__(self) -> None:
+        if self.name not in KINDS:
+            raise ValueError(f"kick task must be one of {', '.join(KINDS)}, not {self.name!r}")
+        if self.distance <= 0:
+            raise ValueError(f"distance must be positive, not {self.distance}")
+
+    @property
+    def sets(self) -> tuple[str, ...]:
+        return (self.set,)
+
+    @property
+    def optimize(self) -> Mapping[str, tuple[str, ...] | None]:
+        return {self.set: None}
+
+    @property
+    def worst(self) -> float:
+        return -FALL_PENALTY - 2.0 * self.distance - 10.0
+
+    def trial(self, values: Values, seed: int) -> TrialResult:
+        from optimization.task import TrialResult
+
+        rng = np.random.default_rng(seed)
+        foot = "lr"[int(rng.integers(2))] if self.feet == 2 else "l"
+        kick = keyframe_kick(values, self.set, self.robot_type, foot)
+        mode = "walking" if self.name == "kick_walking" else "standing"
+        r = kick_trial(self.robot_type, kick, mode, rng, int(rng.integers(2**31)))
+        if self.name == "kick_distance":
+            fitness = -math.hypot(r["toward"] - self.distance, r["lateral"])
+        elif self.name == "long_kick":
+            fitness = r["toward"] - 0.5 * abs(r["lateral"])
+        else:
+            fitness = r["toward"] - 0.2 * (r["contact_s"] if r["contact_s"] is not None else APPROACH_LIMIT)
+        fitness -= FALL_PENALTY * r["fell"]
+        return TrialResult(float(fitness), {**r, "foot": FOOT_NAME[foot]})
+
+
+def kick_distance(robot_type: int = 0, distance: float = 5.0, set: str = BASE_SET) -> KickTask:
+    return KickTask("kick_distance", robot_type, set, distance)
+
+
+def long_kick(robot_type: int = 0, set: str = "long_kick") -> KickTask:
+    return KickTask("long_kick", robot_type, set)
+
+
+def kick_walking(robot_type: int = 0, set: str = BASE_SET) -> KickTask:
+    return KickTask("kick_walking", robot_type, set)
+
+
+__all__ = ["KINDS", "KickTask", "kick_distance", "kick_param_set", "kick_trial", "kick_walking",
+           "keyframe_kick", "long_kick", "shipped_kick_sets"]

@@ -1,0 +1,78 @@
+"""Getup optimization tasks: parameter sets, fitness that tells good from broken, seeds, the CLI."""
+
+import pytest
+
+from cli.main import main
+from optimization.getup import GetupTask
+from optimization.paramvec import PARAM_SETS, ParamSpace, load_values, write_param_file
+from optimization.task import make_task
+from skills.falls import load_getup_skills
+from skills.params import UNITS
+
+
+@pytest.mark.parametrize("name, prefix", [("getup_front", "front_"), ("getup_back", "back_")])
+def test_parameter_sets_cover_their_skill_and_load_the_shipped_values(name, prefix):
+    d = PARAM_SETS[name]
+    assert d.prefix == prefix
+    assert {s.name for s in d.specs} == set(d.schema) and len(d.schema) == 40  # 5 poses x 8 slots
+    values = load_values([name], 0)[name]
+    assert set(values) == set(d.schema)
+    for s in d.specs:  # the shipped values lie inside the bounds, scales are positive
+        assert s.lower <= values[s.name] <= s.upper and s.sigma > 0
+    assert d.spec("k1_wait").sigma < 1.0 and d.spec("k1_hip").sigma >= 1.0  # s vs degrees
+    space = ParamSpace.build(load_values([name], 0), make_task(name).optimize)
+    assert space.dim == 40
+
+
+def test_a_learned_file_loads_as_getup_parameters(tmp_path):
+    values = load_values(["getup_front"], 0)
+    values["getup_front"]["k2_hip"] = 77.0
+    path = tmp_path / "best.txt"
+    write_param_file(path, values, "learned")
+    skills = load_getup_skills([path])
+    assert skills["GETUP_FRONT"].keyframes[2].set["llj3"] == pytest.approx(77.0 * UNITS["deg"])
+
+
+def broken(name: str) -> dict:
+    """Every pose angle 0 and every wait at its lower bound: the robot never gets up."""
+    vals = load_values([name], 0)
+    vals[name] = {n: (0.02 if PARAM_SETS[name].schema[n] == "s" else 0.0) for n in vals[name]}
+    return vals
+
+
+@pytest.mark.parametrize("name", ["getup_front", "getup_back"])
+def test_default_parameters_score_better_than_broken_ones(name):
+    task = make_task(name, controller="pid")
+    good = [task.trial(load_values([name], 0), seed).fitness for seed in range(2)]
+    bad = [task.trial(broken(name), seed).fitness for seed in range(2)]
+    assert all(-task.seconds <= f <= 0.0 for f in good + bad)
+    assert min(bad) < -3.5  # lying all the time (a few cycles of the drop may count as up)
+    assert max(good) > -3.0 and min(good) > max(bad) + 0.5
+
+
+def test_a_trial_is_reproducible_from_its_seed():
+    task = make_task("getup_back", all_types=1)
+    vals = load_values(["getup_back"], 0)
+    first = task.trial(vals, 11)
+    task.trial(vals, 12)  # something else ran in between
+    again = task.trial(vals, 11)
+    assert first == again
+    assert first.info["robot_type"] in range(5)
+
+
+def test_bad_task_options_raise():
+    with pytest.raises(ValueError, match="controller"):
+        GetupTask("getup_front", controller="magic")
+    with pytest.raises(ValueError, match="getup task"):
+        GetupTask("getup_sideways")
+
+
+def test_cli_runs_a_short_getup_job(tmp_path, capsys):
+    out = tmp_path / "job"
+    assert main(["optimize", "getup_front", "--option", "seconds=2", "--population", "4",
+                 "--generations", "1", "--workers", "0", "--seed", "1", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert sum(ln.startswith("gen ") for ln in err.splitlines()) == 1
+    best = (out / "best.txt").read_text()
+    assert "front_k1_arm" in best and "back_k1_arm" not in best
+    load_getup_skills([out / "best.txt"])  # the result is a getup parameter file

@@ -1,0 +1,95 @@
+"""Kick optimization tasks: parameter sets, fitness that tells a kick from a broken one,
+seeds, the CLI, and kick trials measured from ground truth."""
+
+import math
+
+import numpy as np
+import pytest
+
+from cli.main import main
+from optimization.kick import KickTask, keyframe_kick, kick_trial
+from optimization.paramvec import PARAM_SETS, ParamSpace, load_values, write_param_file
+from optimization.task import make_task
+from skills.kick import keyframe_kicks
+from skills.params import UNITS
+
+
+def test_the_kick_set_covers_the_skill_and_loads_the_shipped_values():
+    d = PARAM_SETS["kick"]
+    assert d.prefix == "kick_"
+    names = {s.name for s in d.specs}
+    assert "ball_x" in names and "distance" not in names and "tol_x" not in names
+    values = load_values(["kick"], 0)["kick"]
+    for s in d.specs:
+        assert s.lower <= values[s.name] <= s.upper and s.sigma > 0
+    space = ParamSpace.build(load_values(["kick"], 0), make_task("kick_distance").optimize)
+    assert space.dim == len(d.specs)
+
+
+def test_a_learned_file_loads_as_keyframe_kick_parameters(tmp_path):
+    values = load_values(["kick"], 0)
+    values["kick"]["k2_hip"] = 33.0
+    path = tmp_path / "best.txt"
+    write_param_file(path, values, "learned")
+    kick = keyframe_kicks(0, [path])["kick_left"]
+    assert any(abs(k.set.get("llj3", 0.0) - 33.0 * UNITS["deg"]) < 1e-9 for k in kick.skill.keyframes)
+    bound = keyframe_kick(values, "kick", 0)  # the task binds the same values without a file
+    assert [k.set for k in bound.skill.keyframes] == [k.set for k in kick.skill.keyframes]
+
+
+def broken() -> dict:
+    """Every pose angle 0 and every wait short: the legs never swing at the ball."""
+    vals = load_values(["kick"], 0)
+    schema = PARAM_SETS["kick"].schema
+    vals["kick"] = {n: (0.05 if schema[n] == "s" else 0.0 if schema[n] == "deg" else v)
+                    for n, v in vals["kick"].items()}
+    return vals
+
+
+def test_the_shipped_kick_scores_better_than_a_broken_one():
+    task = make_task("long_kick", set="kick")
+    good = [task.trial(load_values(["kick"], 0), seed) for seed in range(2)]
+    bad = [task.trial(broken(), seed) for seed in range(2)]
+    assert min(r.fitness for r in good) > max(r.fitness for r in bad) + 1.0
+    assert all(r.info["toward"] > 1.0 for r in good)
+    assert all(r.info["toward"] < 0.5 for r in bad)
+
+
+def test_a_trial_is_reproducible_from_its_seed():
+    task = make_task("kick_distance", distance=3.0)
+    vals = load_values(["kick"], 0)
+    first = task.trial(vals, 5)
+    task.trial(vals, 6)
+    assert task.trial(vals, 5) == first
+    assert first.info["foot"] in ("left", "right")
+
+
+def test_a_standing_ik_kick_trial_measures_the_ball():
+    from skills.ikkick import ik_kicks
+
+    kick = ik_kicks(0)["ik_forward_left"]
+    r = kick_trial(0, kick, "standing", np.random.default_rng(3), 3)
+    assert r["kicked"] and not r["fell"]
+    assert r["toward"] > 1.0 and r["direction_error"] < 15.0
+    assert r["contact_s"] is not None and 0.4 < r["contact_s"] < 3.0
+    assert math.isclose(r["distance"], math.hypot(r["toward"], r["lateral"]), rel_tol=1e-9)
+
+
+def test_bad_task_options_raise():
+    with pytest.raises(ValueError, match="kick task"):
+        KickTask("kick_sideways")
+    with pytest.raises(ValueError, match="distance"):
+        KickTask("kick_distance", distance=-1.0)
+    with pytest.raises(ValueError, match="mode"):
+        kick_trial(0, keyframe_kicks(0)["kick_left"], "running", np.random.default_rng(0), 0)
+
+
+def test_cli_runs_a_short_kick_job(tmp_path, capsys):
+    out = tmp_path / "job"
+    assert main(["optimize", "kick_distance", "--option", "distance=4", "--population", "3",
+                 "--generations", "1", "--workers", "0", "--seed", "1", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert sum(ln.startswith("gen ") for ln in err.splitlines()) == 1
+    best = (out / "best.txt").read_text()
+    assert "kick_k1_hip" in best
+    keyframe_kicks(0, [out / "best.txt"])  # the result is a kick parameter file
