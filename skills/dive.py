@@ -43,9 +43,8 @@ import numpy as np
 from models import nao
 from models.messages import Percept
 from models.rules import CYCLE
-from skills.control import UT_KP
 from skills.falls import UPRIGHT, Getup
-from skills.motion import Motion
+from skills.motion import GETUP_GAINS, Motion
 from skills.params import PathLike, load_params
 from skills.skill import Skill, SkillPlayer, read_skills, skill_path
 
@@ -85,7 +84,7 @@ class Dive:
                  motion: Motion | None = None, hold: float = 0.2, settle: float = 1.0,
                  sit_force: float | None = None, sit_time: float = 0.5,
                  stand_tilt: float = math.radians(15.0),
-                 getup_gains: tuple[float, float] | None = (UT_KP, 0.0)) -> None:
+                 getup_gains: tuple[float, float] | None = GETUP_GAINS) -> None:
         if name not in DIVES:
             raise ValueError(f"unknown dive {name!r}; dives are {', '.join(DIVES)}")
         skills = skills or load_dive_skills()
@@ -109,8 +108,6 @@ class Dive:
         self._lying_back = False
         self._stand_pose = self._walk_stand()  # rad, league order; NaN where the walk sets nothing
         self._settle_from = self._stand = self._stand_pose
-        self._kp = self.motion.pid.kp.copy()
-        self._ff = self.motion.feedforward
 
     @property
     def done(self) -> bool:
@@ -133,12 +130,7 @@ class Dive:
         self._gains(False)
 
     def _gains(self, getup: bool) -> None:
-        if getup and self.getup_gains is not None:
-            self.motion.pid.kp[:] = self.getup_gains[0]
-            self.motion.feedforward = self.getup_gains[1]
-        else:
-            self.motion.pid.kp[:] = self._kp
-            self.motion.feedforward = self._ff
+        self.motion.skill_gains(self.getup_gains if getup else None)
 
     def step(self, percept: Percept) -> np.ndarray:
         """Joint velocities (rad/s, league order) for this cycle."""

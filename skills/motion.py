@@ -45,7 +45,7 @@ class Motion:
         self._settle_until = -1.0
         self._hold_until = -1.0
         self._getup_pose: np.ndarray | None = None
-        self._walk_gains = (self.pid.kp.copy(), self.feedforward)
+        self._saved_gains: tuple[np.ndarray, float] | None = None  # while a skill's gains are on
 
     def reset(self) -> None:
         """After a beam, a getup or anything that moved the body by other means."""
@@ -88,9 +88,7 @@ class Motion:
             self.sense(percept)  # the walk, which feeds the tilt estimate, is off
             if not self._recovering:
                 self._recovering = True
-                self._walk_gains = (self.pid.kp.copy(), self.feedforward)
-                self.pid.kp[:] = GETUP_GAINS[0]
-                self.feedforward = GETUP_GAINS[1]
+                self.skill_gains(GETUP_GAINS)
                 self._prev_target = None
             self._getup_pose = target.copy()
             self._hold_until = percept.time + HOLD_AFTER_GETUP
@@ -101,7 +99,7 @@ class Motion:
             # Up: the walk's gains again, and its stand before walking.
             self._recovering = False
             self._getup_pose = None
-            self.pid.kp[:], self.feedforward = self._walk_gains
+            self.skill_gains(None)
             self.pid.reset()
             self._prev_target = None
             self.walk.reset()
@@ -109,6 +107,20 @@ class Motion:
         if percept.time < self._settle_until:
             return self.walk_step(percept, 0.0, 0.0, 0.0)
         return None
+
+    def skill_gains(self, gains: tuple[float, float] | None) -> None:
+        """Joint gains (kp 1/s, feed-forward factor) for a skill tuned with them, e.g.
+        `GETUP_GAINS`; None gives back the gains in use before (the walk's). The walk
+        sets its own kp again at its next step anyway."""
+        if gains is None:
+            if self._saved_gains is not None:
+                self.pid.kp[:], self.feedforward = self._saved_gains
+                self._saved_gains = None
+            return
+        if self._saved_gains is None:
+            self._saved_gains = (self.pid.kp.copy(), self.feedforward)
+        self.pid.kp[:] = gains[0]
+        self.feedforward = gains[1]
 
     @property
     def recovering(self) -> bool:
