@@ -51,7 +51,7 @@ SOLE_FORCE = 10.0  # N under a sole before it counts as flat on the ground
 LANDMARK_GAIN = 0.2  # share of a landmark fix taken into the dead-reckoned pose per vision frame
 LANDMARK_GATE = math.radians(30.0)  # heading fixes farther off than this are ignored
 
-APPROACH, KICK, DONE = "approach", "kick", "done"
+APPROACH, KICK, DONE, WATCH = "approach", "kick", "done", "watch"
 
 
 @dataclass
@@ -118,22 +118,36 @@ class Kicker:
         self._landmarks: dict[str, np.ndarray] | None = None
 
     def start(self, pose: tuple[float, float, float], target: tuple[float, float],
-              landmarks: bool = True) -> None:
+              landmarks: bool = True, approach: bool = True) -> None:
         """Begin: the robot stands at `pose` (x, y, heading) and should kick toward `target`.
 
         landmarks: the pose and target are in the robot's team frame (the field
         frame for the left team), so seen flags and goal posts correct the
-        dead-reckoned heading and position; False for any other frame."""
+        dead-reckoned heading and position; False for any other frame.
+        approach: False to stand still watching the ball (state WATCH) until
+        `kick_now`, for a robot already placed behind the ball."""
         self.odo = Odometry(*pose)
         self.use_landmarks = landmarks
         self.ball = BallMemory()
         self.target = (float(target[0]), float(target[1]))
-        self.state = APPROACH
+        self.state = APPROACH if approach else WATCH
         self.kick = None
         self.kick_started = None
         self._final = None
         self.approach.reset()
         self.motion.reset()
+
+    def kick_now(self, percept: Percept) -> bool:
+        """Start the kick of least cost from where the robot stands, if it has seen the
+        ball; returns whether it started (the kick plays from the next `act`)."""
+        if self.ball.position is None or self.state == KICK:
+            return False
+        spec = choose_kick(self.pose, self.ball.position, self.target, [k.spec for k in self.kicks.values()])
+        self.kick = self.kicks[spec.name]
+        self.state = KICK
+        self.kick_started = percept.time
+        self.kick.reset(self.ball_relative())
+        return True
 
     @property
     def pose(self) -> tuple[float, float, float]:
@@ -176,7 +190,7 @@ class Kicker:
                 return self.motion.command(target, percept)
             self.state = DONE
             self._final = target.copy()
-        if self.state == DONE:
+        if self.state in (DONE, WATCH):
             if self._final is not None:  # after a kick: hold its last (standing) pose; the walk's
                 return self.motion.command(self._final, percept)  # stop-jog tips robots over
             return self._walk(percept, 0.0, 0.0, 0.0)
@@ -321,4 +335,4 @@ class Kicker:
             self.motion.walk.reset()
 
 
-__all__ = ["APPROACH", "DONE", "KICK", "BallMemory", "Kicker"]
+__all__ = ["APPROACH", "DONE", "KICK", "WATCH", "BallMemory", "Kicker"]

@@ -99,19 +99,15 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
     stand = WalkAgent(robot_type, kicker.motion.walk.sets).stand_pose()
     w.place_robot(0, x, y, heading, joints=stand)
     w.settle_height(0)
-    kicker.start((x, y, heading), (float(target[0]), float(target[1])))
-    if mode == "standing":
-        kicker.state = DONE  # stands still, watching the ball, until told to kick
+    kicker.start((x, y, heading), (float(target[0]), float(target[1])), approach=mode == "walking")
     t0 = w.time
     contact = None
     fell = False
     end = t0 + APPROACH_LIMIT
     while w.time < end:
         percept = tr.percepts()[0]
-        if mode == "standing" and kicker.kick_started is None and w.time - t0 >= LOOK \
-                and kicker.ball.position is not None:
-            kicker.state, kicker.kick, kicker.kick_started = KICK, kick, percept.time
-            kick.reset(kicker.ball_relative())
+        if mode == "standing" and kicker.kick_started is None and w.time - t0 >= LOOK:
+            kicker.kick_now(percept)  # after watching the ball LOOK s
         touched = tr.step({0: Action(kicker.act(percept))})
         fell = fell or bool(w.torso_up()[0] < FALLEN_UP)
         if kicker.state == KICK and contact is None:
