@@ -1,13 +1,13 @@
 """Ball tracking: a Kalman filter over the ball's position and velocity on the ground.
 
-State (x, y, vx, vy) in the team frame (m, m/s). The motion model is a ball
-rolling under a constant deceleration (rolling friction, `ROLLING_DECELERATION`,
-measured on this project's MuJoCo ball: 3 m/s to rest in about 3.9 s), applied
-as a control input along the current velocity, with white-noise acceleration
-for kicks and bounces. Measurements are ground positions from the agent's own
-vision (noise growing with distance) and from teammates' messages (coarser).
-A measurement far outside the filter's belief (a kick, a referee's drop) resets
-it. Dissertation, Appendix D.3.2.
+State (x, y, vx, vy) in the team frame (m, m/s). The motion model is a rolling ball
+slowed by the league's linear drag (`ROLLING_DRAG`, a deceleration proportional to
+speed) and a small rolling friction (`ROLLING_DECELERATION`, constant, along the
+current velocity), both fitted on this project's MuJoCo ball (3 m/s rolls about 8
+m), with white-noise acceleration for kicks and bounces. Measurements are ground
+positions from the agent's own vision (noise growing with distance) and from
+teammates' messages (coarser). A measurement far outside the filter's belief (a
+kick, a referee's drop) resets it. Dissertation, Appendix D.3.2.
 """
 
 from __future__ import annotations
@@ -17,27 +17,30 @@ import math
 import numpy as np
 from filterpy.kalman import KalmanFilter
 
-ROLLING_DECELERATION = 0.77  # m/s^2
+ROLLING_DRAG = 0.31  # 1/s: dv/dt = -ROLLING_DRAG v - ROLLING_DECELERATION v/|v|
+ROLLING_DECELERATION = 0.044  # m/s^2
 
 
 class BallFilter:
     """Kalman filter (filterpy) over ball position and velocity in the team frame."""
 
     def __init__(self, sigma_accel: float = 1.5, deceleration: float = ROLLING_DECELERATION,
-                 gate: float = 5.0, maneuver: float = 2.5, maneuver_sigma_v: float = 0.3,
-                 history: int = 3) -> None:
-        """sigma_accel: process noise (m/s^2, white acceleration); deceleration:
-        rolling friction (m/s^2); gate: innovation (in standard deviations) beyond
-        which a measurement resets the filter instead of correcting it; maneuver:
-        innovation (standard deviations) beyond which the ball is taken to have been
-        kicked: the filter restarts from a straight-line fit of the last `history`
-        measurements with at least maneuver_sigma_v (m/s) of velocity uncertainty."""
+                 drag: float = ROLLING_DRAG, gate: float = 5.0, maneuver: float = 2.5,
+                 maneuver_sigma_v: float = 0.3, history: int = 3) -> None:
+        """sigma_accel: process noise (m/s^2, white acceleration); deceleration: rolling friction
+        (m/s^2); drag: deceleration per unit speed (1/s); gate: innovation (in standard
+        deviations) beyond which a measurement resets the filter instead of correcting
+        it; maneuver: innovation (standard deviations) beyond which the ball is taken to
+        have been kicked: the filter restarts from a straight-line fit of the last
+        `history` measurements with at least maneuver_sigma_v (m/s) of velocity
+        uncertainty."""
         self.history = history
         self._recent: list[tuple[float, float, float]] = []
         self.sigma_accel = sigma_accel
         self.maneuver = maneuver
         self.maneuver_sigma_v = maneuver_sigma_v
         self.deceleration = deceleration
+        self.drag = drag
         self.gate = gate
         kf = KalmanFilter(dim_x=4, dim_z=2)
         kf.H = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
@@ -62,8 +65,10 @@ class BallFilter:
         kf = self.kf
         if dt != self._dt:  # the matrices depend on dt only (20 ms nearly always)
             self._dt = dt
-            kf.F = np.array([[1.0, 0.0, dt, 0.0], [0.0, 1.0, 0.0, dt],
-                             [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+            decay = math.exp(-self.drag * dt)  # velocity kept over dt under the drag
+            reach = (1.0 - decay) / self.drag if self.drag > 0 else dt  # distance per unit speed
+            kf.F = np.array([[1.0, 0.0, reach, 0.0], [0.0, 1.0, 0.0, reach],
+                             [0.0, 0.0, decay, 0.0], [0.0, 0.0, 0.0, decay]])
             kf.B = np.array([[0.5 * dt * dt, 0.0], [0.0, 0.5 * dt * dt], [dt, 0.0], [0.0, dt]])
             g = np.array([0.5 * dt * dt, dt])
             qb = np.outer(g, g) * self.sigma_accel ** 2
@@ -71,10 +76,10 @@ class BallFilter:
                              [qb[1, 0], 0, qb[1, 1], 0], [0, qb[1, 0], 0, qb[1, 1]]])
         v = kf.x[2:4]
         speed = float(np.hypot(v[0], v[1]))
-        if speed > self.deceleration * dt:
+        if speed * math.exp(-self.drag * dt) > self.deceleration * dt:
             u = -self.deceleration * v / speed
         else:
-            u = -v / dt  # comes to rest within this step
+            u = -v * math.exp(-self.drag * dt) / dt  # comes to rest within this step
         kf.predict(u=u)
 
     def update(self, xy: np.ndarray, sigma: float, time: float) -> None:
@@ -129,14 +134,25 @@ class BallFilter:
         return float(math.sqrt(0.5 * (self.kf.P[0, 0] + self.kf.P[1, 1])))
 
     def stop_position(self) -> np.ndarray:
-        """Where the ball comes to rest (m, team frame) if nothing touches it: it travels
-        v^2 / (2 a) further along its velocity."""
+        """Where the ball comes to rest (m, team frame) if nothing touches it: under
+        dv/dt = -k v - a it travels v/k - (a/k^2) ln(1 + k v / a) further."""
         v = self.velocity
         speed = float(np.hypot(v[0], v[1]))
         if speed < 1e-6:
             return self.position
-        return self.position + v * (speed / (2.0 * self.deceleration))
+        return self.position + v * (rolling_distance(speed, self.drag, self.deceleration) / speed)
 
     def time_to_stop(self) -> float:
-        """Seconds until the ball comes to rest (s)."""
-        return float(np.hypot(*self.velocity)) / self.deceleration
+        """Seconds until the ball comes to rest (s): ln(1 + k v / a) / k."""
+        speed = float(np.hypot(*self.velocity))
+        k, a = self.drag, self.deceleration
+        return math.log1p(k * speed / a) / k if k > 0 else speed / a
+
+
+def rolling_distance(speed: float, drag: float = ROLLING_DRAG,
+                     deceleration: float = ROLLING_DECELERATION) -> float:
+    """Distance (m) a ball rolling at `speed` (m/s) travels before it rests, under
+    dv/dt = -drag v - deceleration."""
+    if drag <= 0:
+        return speed * speed / (2.0 * deceleration)
+    return speed / drag - deceleration / drag ** 2 * math.log1p(drag * speed / deceleration)

@@ -26,7 +26,8 @@ PENALTY_WIDTH = 3.9  # m (rcssserver3d 2020; the agents' code bases use 6.0)
 CENTER_CIRCLE_RADIUS = 2.0  # m
 BALL_RADIUS = 0.042  # m
 BALL_MASS = 0.026  # kg
-BALL_ROLLING_FRICTION = 0.005  # m; about 0.8 m/s^2 of rolling deceleration
+BALL_LINEAR_DRAG = 0.01  # N s/m: force -0.01 v on the ball's center (NAO.md, SimSpark's drag)
+BALL_ROLLING_FRICTION = 0.001  # m; brings a slow ball to rest
 # Ball contacts (time constant s, damping ratio): restitution about 0.5. The league's
 # ball bounces with 0.8 (NAO.md); a damping ratio under 0.2 at the 5 ms step makes a
 # dropped ball gain energy in MuJoCo's soft contacts, so 0.2 is as lively as it stays stable.
@@ -125,9 +126,19 @@ def field_xml(world: ET.Element, floor_bits: tuple[int, int], goal_bits: tuple[i
 
 
 def ball_xml(world: ET.Element, contype: int, conaffinity: int) -> None:
-    """Add the ball (free body at the center spot) to an MJCF worldbody."""
+    """Add the ball (a free body at the center spot) to an MJCF worldbody.
+
+    The ball's six degrees of freedom are three world-aligned slide joints (ball_x,
+    ball_y, ball_z) and a ball joint (ball), the same qpos and qvel layout as a free
+    joint, so that the slides can carry the league's linear drag as joint damping
+    (a free joint's damping would also brake the spin, and a rolling ball with it).
+    """
     body = ET.SubElement(world, "body", name="ball", pos=_f(0, 0, BALL_RADIUS))
-    ET.SubElement(body, "freejoint", name="ball")
+    for name, axis, ref in (("ball_x", "1 0 0", 0.0), ("ball_y", "0 1 0", 0.0),
+                            ("ball_z", "0 0 1", BALL_RADIUS)):  # ref: qpos is the world position
+        ET.SubElement(body, "joint", name=name, type="slide", axis=axis, ref=_f(ref),
+                      damping=_f(BALL_LINEAR_DRAG), limited="false")
+    ET.SubElement(body, "joint", name="ball", type="ball", limited="false")
     ET.SubElement(body, "geom", name="ball", type="sphere", size=_f(BALL_RADIUS),
                   mass=_f(BALL_MASS), rgba="1 0.5 0 1", condim="6",
                   friction=_f(0.8, 0.005, BALL_ROLLING_FRICTION),

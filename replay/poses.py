@@ -49,7 +49,7 @@ class Replay:
             roots = [m.joint(f"{p}/root").id for p in self.players]
             self.torso_bodies = np.array([m.jnt_bodyid[j] for j in roots])
             self.ball_body = m.body("ball").id
-            ball_qpos = int(m.jnt_qposadr[m.joint("ball").id])
+            ball_qpos = int(m.jnt_qposadr[m.joint("ball_x").id])
         except KeyError as exc:
             raise LogError(f"the match log's scene lacks a body or joint its players need ({exc})") from None
         self.root_qpos = np.array([m.jnt_qposadr[j] for j in roots], dtype=np.int64)

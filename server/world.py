@@ -87,7 +87,7 @@ class World:
         self._robot_geoms = np.nonzero((geom_owner >= 0) & (m.geom_contype > 0))[0]
         reach = m.geom_rbound[self._robot_geoms] + m.geom_rbound[self.ball_geom] + 0.01
         self._touch_dist2 = reach * reach
-        ball_joint = m.joint("ball").id
+        ball_joint = m.joint("ball_x").id  # slides x, y, z then the ball joint: a free joint's layout
         self.ball_qpos = int(m.jnt_qposadr[ball_joint])
         self.ball_qvel = int(m.jnt_dofadr[ball_joint])
         self.torso_ids = np.array([p.torso for p in self.players])

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
-from agent.ballfilter import ROLLING_DECELERATION, BallFilter
+from agent.ballfilter import ROLLING_DECELERATION, ROLLING_DRAG, BallFilter, rolling_distance
 
 from .helpers import perceiving_match, place_standing, run
 
@@ -14,16 +15,25 @@ def test_tracks_a_synthetic_rolling_ball():
     f = BallFilter()
     p, v = np.array([0.0, 0.0]), np.array([2.0, -1.0])
     dt = 0.02
+
+
+    def roll(p, v, dt):  # the motion model, integrated in 1 ms steps
+        for _ in range(round(dt / 0.001)):
+            speed = np.hypot(*v)
+            if speed < 1e-4:
+                return p, 0 * v
+            v = v - (ROLLING_DRAG * v + ROLLING_DECELERATION * v / speed) * 0.001
+            p = p + v * 0.001
+        return p, v
+
     for k in range(100):
-        speed = np.hypot(*v)
-        v = v - ROLLING_DECELERATION * dt * v / speed
-        p = p + v * dt
+        p, v = roll(p, v, dt)
         f.predict(dt)
         if k % 3 == 0:
             f.update(p + rng.normal(0, 0.03, 2), 0.03, k * dt)
     np.testing.assert_allclose(f.velocity, v, rtol=0.1, atol=0.05)
-    stop = p + v * np.hypot(*v) / (2 * ROLLING_DECELERATION)
-    assert np.hypot(*(f.stop_position() - stop)) < 0.3
+    rest, _ = roll(p, v, 60.0)
+    assert np.hypot(*(f.stop_position() - rest)) < 0.3
 
 
 def test_a_far_measurement_resets():
@@ -61,3 +71,26 @@ def test_velocity_of_a_trainer_rolled_ball_within_20_percent():
     stop = m.agents[0].world.ball_filter.stop_position()
     run(m, 4.0)
     assert np.hypot(*(stop - w.ball_position()[:2])) < 0.5
+
+
+@pytest.mark.parametrize("speed", [0.8, 4.0])
+def test_the_motion_model_matches_the_simulated_ball(speed):
+    """The agents' prior (drag and rolling friction) against the MuJoCo ball rolled by the
+    trainer on an empty field: where it stops."""
+    from models.scene import Lineup
+    from server.world import World
+
+    w = World(Lineup((0,), ()))
+    w.place_ball((-10.0, 0.0))
+    w.set_ball_velocity((speed, 0.0, 0.0))
+    ctrl = np.zeros(w.model.nu)
+    t = 0.0
+    while np.hypot(*w.ball_velocity()[:2]) > 0.01 and t < 30.0:
+        w.step(ctrl)
+        t += 0.02
+    travelled = w.ball_position()[0] + 10.0
+    assert abs(w.ball_position()[1]) < 0.01
+    assert travelled == pytest.approx(rolling_distance(speed), rel=0.1)
+    f = BallFilter()
+    f.reset(np.zeros(2), 0.01, velocity=np.array([speed, 0.0]))
+    assert f.stop_position()[0] == pytest.approx(travelled, rel=0.1)

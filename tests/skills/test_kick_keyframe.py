@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
+from agent.ballfilter import rolling_distance
 from models.messages import Action
 from models.scene import Lineup
 from server.trainer import Trainer
@@ -38,7 +39,7 @@ class Outcome:
     distance: float
     direction: float
     fell: bool
-    seconds: float  # simulated s from the kick's start to the ball's stop
+    seconds: float  # simulated s from the kick's start to the ball's stop (or the limit)
 
 
 def stand_pose(robot_type: int) -> np.ndarray:
@@ -48,10 +49,11 @@ def stand_pose(robot_type: int) -> np.ndarray:
 
 
 def kick_once(kick: KeyframeKick, robot_type: int, offset: tuple[float, float] = (0.0, 0.0),
-              limit: float = 8.0, hold: float = 0.2) -> Outcome:
+              limit: float = 4.0, hold: float = 0.2) -> Outcome:
     """Stand the robot at the origin facing +x with the ball at the kick's offset (+ `offset`, m),
     play the kick through `Motion.command` from percepts only, then stand until the ball stops
-    (or `limit` s after the kick's start)."""
+    or `limit` s after the kick's start; a ball still rolling then is extrapolated to its stop
+    (drag and rolling friction, `agent.ballfilter.rolling_distance`)."""
     tr = Trainer(Lineup((robot_type,), ()), vision=False)
     w = tr.world
     mo = Motion(robot_type)
@@ -75,6 +77,10 @@ def kick_once(kick: KeyframeKick, robot_type: int, offset: tuple[float, float] =
                 and np.linalg.norm(w.ball_velocity()[:2]) < 0.02):
             break
     d = w.ball_position()[:2] - b0
+    v = w.ball_velocity()[:2]
+    speed = float(np.hypot(*v))
+    if speed >= 0.02 and w.ball_position()[2] < 0.05:  # still rolling: extrapolate to its stop
+        d = d + v / speed * rolling_distance(speed)
     return Outcome(float(np.hypot(*d)), math.atan2(d[1], d[0]), fell, w.time - t0)
 
 
@@ -102,9 +108,9 @@ def min_distance(spec: KickSpec) -> float:
     return max(1.0, 0.6 * spec.distance)
 
 
-# m: what the general and the long kick reach at least on type 0 (they measure about 4.4 m
-# with the league's bouncy ball, about 2.8 m before)
-MIN_KICK_DISTANCE = {"kick": 3.5, "long_kick": 3.5}
+# m: what the general and the long kick reach at least on type 0 (the issue's goal for a
+# keyframe kick; they measure about 6.4 m with the league's ball drag)
+MIN_KICK_DISTANCE = {"kick": 5.0, "long_kick": 5.0}
 
 
 @pytest.mark.parametrize("foot", ["l", "r"])
