@@ -12,7 +12,8 @@ as after a beam); ground truth only measures:
 * walking: it starts 1 to 2 m from the ball at a random bearing, facing the
   ball, and must approach and kick toward a target in a random direction.
 
-Measured: the ball's travel until it stops (or `ROLL_LIMIT` s after contact),
+Measured: the ball's travel until it stops (rolled in physics for `ROLL_LIMIT` s
+after contact, then extrapolated under its drag and rolling friction),
 its progress toward the target, its direction error, whether the robot fell
 (torso up-vector z < 0.5 at any time) and the time from the start to the
 robot's first contact with the ball during the kick.
@@ -27,6 +28,11 @@ Tasks (fitness higher is better; `FALL_PENALTY` per fall):
   fitness = progress toward the target (m) - |lateral miss| / 2.
 * ``kick_walking``: approach from 1-2 m and kick; fitness = progress toward
   the target (m) - 0.2 x seconds until contact.
+* ``approach`` (``kick=NAME``, default ``ik_forward``): learns the ball
+  approach (the ``approach`` set, skills/data/approach.params) with the kick
+  frozen: a walking trial as ``kick_walking``, feet alternating; fitness =
+  progress toward the target capped at `APPROACH_CAP` m (the kick's own reach
+  is not the approach's merit) - 0.2 x seconds until contact.
 
 Frames: the field frame (m, rad).
 """
@@ -35,17 +41,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from agent.ballfilter import rolling_distance
 from agent.kicker import DONE, KICK, Kicker
 from models.messages import Action
 from models.scene import Lineup
 from optimization.phases import FALL_PENALTY, WalkAgent
 from server.trainer import Trainer
-from skills.approach import kick_pose
+from skills.approach import APPROACH_SCHEMA, ApproachParams, kick_pose
 from skills.kick import (
     BASE_SET,
     FOOT_NAME,
@@ -56,7 +63,7 @@ from skills.kick import (
     make_keyframe_kick,
 )
 from skills.kick import default_param_files as kick_param_files
-from skills.kicks import KickSkill
+from skills.kicks import KickSkill, all_kicks
 from skills.params import UNITS
 from skills.skill import read_skills, skill_path
 
@@ -66,7 +73,7 @@ if TYPE_CHECKING:  # optimization.paramvec and .task import this module
 
 BALL = (-5.0, 0.0)  # m, field frame: where the ball starts
 APPROACH_LIMIT = 25.0  # s to reach the ball and start the kick
-ROLL_LIMIT = 8.0  # s after contact for the ball to stop
+ROLL_LIMIT = 4.0  # s after contact that the ball rolls in physics; the rest is extrapolated
 STOPPED = 0.02  # m/s: the ball counts as stopped below this speed
 FALLEN_UP = 0.5  # torso up-vector z below which the robot has fallen
 MIN_TOWARD = 1.0  # m toward the target for a success
@@ -75,15 +82,17 @@ MODES = ("standing", "walking")
 
 
 def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Generator,
-               seed: int) -> dict:
-    """One kick (`mode` "standing" or "walking"); its measurements (m, deg, s; ground truth)."""
+               seed: int, approach: ApproachParams | None = None) -> dict:
+    """One kick (`mode` "standing" or "walking"); its measurements (m, deg, s; ground truth).
+
+    approach: the ball approach's parameters (default: the shipped ones)."""
     if mode not in MODES:
         raise ValueError(f"mode must be one of {', '.join(MODES)}, not {mode!r}")
     tr = Trainer(Lineup((robot_type,), ()), seed=seed)
     w = tr.world
     ball = np.array(BALL)
     w.place_ball(ball)
-    kicker = Kicker(robot_type, {kick.spec.name: kick})
+    kicker = Kicker(robot_type, {kick.spec.name: kick}, approach=approach)
     if mode == "standing":
         target_dir = kick.spec.direction
         target = ball + 10.0 * np.array([math.cos(target_dir), math.sin(target_dir)])
@@ -118,6 +127,9 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
         if contact is not None and kicker.state == DONE and np.linalg.norm(w.ball_velocity()[:2]) < STOPPED:
             break
     moved = w.ball_position()[:2] - ball
+    v = w.ball_velocity()[:2]
+    if np.linalg.norm(v) >= STOPPED and w.ball_position()[2] < 0.05:  # still rolling: to its stop
+        moved = moved + v / np.linalg.norm(v) * rolling_distance(float(np.linalg.norm(v)))
     u = np.array([math.cos(target_dir), math.sin(target_dir)])
     toward = float(moved @ u)
     lateral = float(moved[1] * u[0] - moved[0] * u[1])
@@ -176,6 +188,37 @@ def keyframe_kick(values: Values, set_name: str, robot_type: int, foot: str = "l
     return make_keyframe_kick(source, set_name, base, foot, robot_type)
 
 
+# Optimization scales and bounds of the approach's parameters (file units: m, mm, s, 1).
+APPROACH_SPECS = {
+    "max_decel_x": (0.03, 0.02, 1.0), "max_decel_y": (0.02, 0.02, 1.0), "buffer": (2.0, 0.0, 30.0),
+    "turn_gain": (0.2, 0.1, 4.0), "max_turn": (0.06, 0.05, 1.0), "max_speed": (0.1, 0.1, 1.0),
+    "near": (0.05, 0.15, 0.8), "around": (0.05, 0.25, 0.8), "stage": (0.03, 0.0, 0.5),
+    "stop": (0.08, 0.1, 1.0), "creep": (0.05, 0.05, 1.0), "lead": (0.01, -0.1, 0.1),
+    "settle": (0.06, 0.1, 1.5), "smooth": (0.05, 0.02, 1.0), "lookahead": (0.02, 0.0, 0.5),
+    "fix_time": (0.1, 0.1, 2.0), "fix_turn_gain": (0.2, 0.1, 4.0), "fix_max_turn": (0.06, 0.05, 1.0),
+    "back": (0.015, 0.0, 0.3), "fast": (0.1, 0.1, 2.0), "fast_creep": (0.03, 0.0, 0.6),
+}
+assert set(APPROACH_SPECS) == set(APPROACH_SCHEMA)
+APPROACH_CAP = 4.0  # m of progress toward the target that an approach trial counts
+
+
+def approach_param_set() -> ParamSetDef:
+    """The ball approach's parameter set ``approach`` (prefix ``approach_``, the walk set
+    approach_to_kick shares the prefix with disjoint names)."""
+    from optimization.paramvec import ParamSetDef, ParamSpec
+
+    specs = tuple(ParamSpec(n, *APPROACH_SPECS[n]) for n in APPROACH_SCHEMA)
+    return ParamSetDef(name="approach", prefix="approach_", schema=APPROACH_SCHEMA, specs=specs,
+                       defaults=lambda robot_type: [skill_path("approach.params")])
+
+
+def approach_params(values: Values) -> ApproachParams:
+    """The approach bound to `values["approach"]` (file units) over the shipped values."""
+    base = ApproachParams.load()
+    si = {n: float(v) * UNITS[APPROACH_SCHEMA[n]] for n, v in values.get("approach", {}).items()}
+    return replace(base, **si)
+
+
 # ----------------------------------------------------------------------- tasks
 
 KINDS = ("kick_distance", "long_kick", "kick_walking")
@@ -231,6 +274,51 @@ class KickTask:
         return TrialResult(float(fitness), {**r, "foot": FOOT_NAME[foot]})
 
 
+@dataclass(frozen=True)
+class ApproachTask:
+    """Walking approach and kick with a frozen kick; learns the ``approach`` set.
+
+    kick: the kick's name without its foot (``ik_forward``, ``kick``, ...)."""
+
+    name: str = "approach"
+    robot_type: int = 0
+    kick: str = "ik_forward"
+
+    def __post_init__(self) -> None:
+        names = {n.rsplit("_", 1)[0] for n in all_kicks(self.robot_type)}
+        if self.kick not in names:
+            raise ValueError(f"kick must be one of {', '.join(sorted(names))}, not {self.kick!r}")
+
+    @property
+    def sets(self) -> tuple[str, ...]:
+        return ("approach",)
+
+    @property
+    def optimize(self) -> Mapping[str, tuple[str, ...] | None]:
+        return {"approach": None}
+
+    @property
+    def worst(self) -> float:
+        return -FALL_PENALTY - 0.2 * APPROACH_LIMIT - 10.0
+
+    def trial(self, values: Values, seed: int) -> TrialResult:
+        from optimization.task import TrialResult
+
+        rng = np.random.default_rng(seed)
+        foot = ("left", "right")[int(rng.integers(2))]
+        kick = all_kicks(self.robot_type)[f"{self.kick}_{foot}"]
+        r = kick_trial(self.robot_type, kick, "walking", rng, int(rng.integers(2**31)),
+                       approach_params(values))
+        fitness = min(r["toward"], APPROACH_CAP) - 0.2 * (
+            r["contact_s"] if r["contact_s"] is not None else APPROACH_LIMIT)
+        fitness -= FALL_PENALTY * r["fell"]
+        return TrialResult(float(fitness), {**r, "foot": foot})
+
+
+def approach(robot_type: int = 0, kick: str = "ik_forward") -> ApproachTask:
+    return ApproachTask("approach", robot_type, kick)
+
+
 def kick_distance(robot_type: int = 0, distance: float = 5.0, set: str = BASE_SET) -> KickTask:
     return KickTask("kick_distance", robot_type, set, distance)
 
@@ -243,5 +331,6 @@ def kick_walking(robot_type: int = 0, set: str = BASE_SET) -> KickTask:
     return KickTask("kick_walking", robot_type, set)
 
 
-__all__ = ["KINDS", "KickTask", "kick_distance", "kick_param_set", "kick_trial", "kick_walking",
+__all__ = ["APPROACH_CAP", "ApproachTask", "KINDS", "KickTask", "approach", "approach_param_set",
+           "approach_params", "kick_distance", "kick_param_set", "kick_trial", "kick_walking",
            "keyframe_kick", "long_kick", "shipped_kick_sets"]

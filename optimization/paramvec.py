@@ -134,6 +134,10 @@ PARAM_SETS.update({n: getup_param_set(n) for n in ("getup_front", "getup_back")}
 from optimization.kick import kick_param_set, shipped_kick_sets  # noqa: E402
 
 PARAM_SETS.update({n: kick_param_set(n) for n in shipped_kick_sets()})
+# The ball approach's set "approach" (approach_*, skills/data/approach.params): optimization.kick.
+from optimization.kick import approach_param_set  # noqa: E402
+
+PARAM_SETS["approach"] = approach_param_set()
 
 
 def param_set(name: str) -> ParamSetDef:

@@ -30,6 +30,8 @@ Registered tasks (`TASKS`, built by `make_task(name, robot_type, **options)`):
   (Appendix A's fixed-distance kicks, long kick and kick from a walking
   approach): keyframe kicks in physics, fitness from where the ball stops
   (`optimization.kick`).
+* ``approach`` (``kick``): the ball approach's parameters with a frozen kick,
+  from a walking start 1-2 m from the ball (`optimization.kick`).
 
 A new task plugs in as a dataclass with the fields above and an entry in
 `TASKS`, its parameter set (the skill file's ``$parameters``:
@@ -52,7 +54,7 @@ from typing import Protocol
 import numpy as np
 
 from optimization.getup import getup_back, getup_front
-from optimization.kick import kick_distance, kick_walking, long_kick
+from optimization.kick import approach, kick_distance, kick_walking, long_kick
 from optimization.paramvec import ANALYTIC_NAMES, Values, param_set
 from optimization.phases import (
     FALL_PENALTY,
@@ -326,6 +328,7 @@ TASKS: dict[str, Callable[..., Task]] = {
     "kick_distance": kick_distance,  # optimization.kick
     "long_kick": long_kick,
     "kick_walking": kick_walking,
+    "approach": approach,  # the ball approach, kick frozen
     "sphere": _analytic("sphere"),
     "rosenbrock": _analytic("rosenbrock"),
 }

@@ -70,3 +70,11 @@ def test_bad_parameter_file_names_its_line(tmp_path, capsys):
     p.write_text("walk_height\t180\nstep_hight\t20\n")
     assert main(["optimize", "walk_forward", "--params", str(p), "--out", str(tmp_path / "o")]) == 2
     assert f"{p}:2: unknown parameter 'step_hight'" in capsys.readouterr().err
+
+
+def test_help_names_every_registered_task():
+    from cli.optimize_cmd import HELP
+    from optimization.task import TASKS
+
+    listed = HELP.split("registered task (", 1)[1].split(")", 1)[0].replace("\n", " ")
+    assert {n.strip() for n in listed.split(",")} == set(TASKS)
