@@ -19,7 +19,9 @@ Methods (MacAlpine, Price and Stone, "SCRAM", AAAI 2015; dissertation ch. 5):
   by the key of a heuristic complete mapping.
 * ``brute-force``: MMDR by enumerating all n! mappings (small n only).
 * ``mmd-msd2``: bottleneck, then the minimum sum of squared distances over
-  edges no longer than it (one `linear_sum_assignment`).
+  edges no longer than it (one `linear_sum_assignment`). Up to `MMD_DENSE_N`
+  agents the bottleneck comes from a few dense min-sum assignments
+  (`_dense_bottleneck`), beyond from sparse edge lists (`bottleneck`).
 * ``msd``, ``msd2``: minimum sum of distances (of squared distances).
 * ``greedy``: repeatedly match the shortest remaining agent-target pair.
 * ``greedy-offense``: targets in order of decreasing x (most offensive first)
@@ -33,14 +35,15 @@ ranks of the distinct cost values, so equal distances are equal.
 
 from __future__ import annotations
 
+import itertools
 import math
 from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from formations.bottleneck import EdgeList, bottleneck, bottleneck_edges
-from formations.hungarian import hungarian
+from formations.bottleneck import EdgeList, bottleneck, bottleneck_edges, max_matching
+from formations.hungarian import LIST_MAX_N, _hungarian_lists, hungarian
 
 METHODS = (
     "mmdr",
@@ -59,13 +62,32 @@ BRUTE_FORCE_MAX_N = 10
 DP_MAX_N = 22
 SMALL_N = 128  # up to this size dense matrices and scipy beat edge lists (MMD+MSD^2)
 MMDR_DENSE_N = 400  # up to this size MMDR first tries `_mmdr_forced` (dense)
+MMD_DENSE_N = 450  # up to this size MMD+MSD^2 finds its bottleneck by dense `_dense_bottleneck`
+CYCLE_N = 48  # from this size `_forced_prefix` tests levels by reachability, not a min-sum
+CERTIFY_N = 160  # from this size `_dense_bottleneck` proves its answer by augmenting paths, not a min-sum
 
 
 def distances(agents: np.ndarray, targets: np.ndarray) -> np.ndarray:
-    """(n, m) Euclidean distances between (n, 2) agents and (m, 2) targets."""
+    """(n, m) Euclidean distances between (n, 2) agents and (m, 2) targets.
+
+    sqrt(dx^2 + dy^2) in place (several times faster than `np.hypot`); the
+    square root is correctly rounded, so points on an integer grid at equal
+    distances get exactly equal costs. Falls back to `np.hypot` if the squares
+    overflow (coordinates beyond 1e154).
+    """
     agents = np.asarray(agents, dtype=float)
     targets = np.asarray(targets, dtype=float)
-    return np.hypot(agents[:, None, 0] - targets[None, :, 0], agents[:, None, 1] - targets[None, :, 1])
+    dx = np.subtract.outer(agents[:, 0], targets[:, 0])
+    dy = np.subtract.outer(agents[:, 1], targets[:, 1])
+    out = np.multiply(dx, dx)
+    dy *= dy
+    out += dy
+    np.sqrt(out, out=out)
+    if not math.isfinite(out.sum()) and not np.all(np.isfinite(out)):
+        return np.hypot(
+            np.subtract.outer(agents[:, 0], targets[:, 0]), np.subtract.outer(agents[:, 1], targets[:, 1])
+        )
+    return out
 
 
 def assign(agents: np.ndarray, targets: np.ndarray, method: str = "mmdr", *, seed: int = 0) -> np.ndarray:
@@ -339,9 +361,24 @@ def _forced_prefix(cost: np.ndarray, match: np.ndarray) -> tuple[int, bool, np.n
         maybe |= tie
     else:  # all costs distinct: no ties
         tie = None
+    reach = n >= CYCLE_N
     for k in np.flatnonzero(maybe).tolist():
         if tie is not None and tie[k]:
             return k, False, order
+        if reach:
+            # Without a tie the other matched edges of subproblem k are all
+            # shorter than d[k]: a perfect matching of shorter edges is the
+            # matching rotated along a cycle through k of arcs i -> j
+            # (p[i, j] < d[k]), so look for k among the nodes k reaches.
+            arcs = p[k:, k:] < d[k]
+            seen = arcs[0].copy()
+            frontier = seen
+            while not seen[0] and frontier.any():
+                frontier = arcs[frontier].any(axis=0) & ~seen
+                seen |= frontier
+            if seen[0]:
+                return k, True, order
+            continue
         try:
             linear_sum_assignment(np.where(p[k:, k:] < d[k], 0.0, np.inf))
         except ValueError:
@@ -535,11 +572,14 @@ def rank_weights(cost: np.ndarray) -> np.ndarray:
 def mmdr_n5(cost: np.ndarray) -> np.ndarray:
     """MMDR by the Hungarian algorithm on exact integer weights 2^rank (Alg. 1)."""
     cost = np.asarray(cost, dtype=float)
-    ranks = rank_weights(cost)
-    weights = np.empty(cost.shape, dtype=object)
-    flat = weights.ravel()
-    for k, r in enumerate(ranks.ravel().tolist()):
-        flat[k] = 1 << r
+    n = cost.shape[0]
+    ranks = rank_weights(cost).tolist()
+    power = [1 << r for r in range(n * n)]
+    rows = [[power[r] for r in row] for row in ranks]
+    if n <= LIST_MAX_N:
+        return _hungarian_lists(rows).assignment
+    weights = np.empty((n, n), dtype=object)
+    weights[...] = rows
     return hungarian(weights).assignment
 
 
@@ -576,22 +616,24 @@ def mmdr_dp(cost: np.ndarray) -> np.ndarray:
     key: dict[int, int] = {0: 0}
     last: dict[int, int] = {}
     layer = [0]
-    agents = [(a, 1 << a) for a in range(n)]
     for k in range(n):
         nxt: dict[int, int] = {}
-        col = [w[a][k] for a in range(n)]
+        # Agents by increasing edge weight to target k: once an edge is too
+        # long for a state, so are all the following ones.
+        col = sorted((w[a][k], a, 1 << a) for a in range(n))
         limit = bound - rest[k + 1]
         least = limit - col_min[k]
         for s in layer:
             base = key[s]
             if base > least:  # even the shortest edge to target k is too long
                 continue
-            for a, bit in agents:
+            room = limit - base
+            for wa, a, bit in col:
+                if wa > room:
+                    break
                 if s & bit:
                     continue
-                c = base + col[a]
-                if c > limit:
-                    continue
+                c = base + wa
                 m = s | bit
                 old = nxt.get(m)
                 if old is None or c < old or (c == old and a < last[m]):
@@ -624,47 +666,128 @@ def permutations(n: int) -> np.ndarray:
     return perms
 
 
+@lru_cache(maxsize=16)
+def _split_mappings(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """All n! mappings split in two halves, for `mmdr_brute_force`.
+
+    Agents 0..h-1 (h = n // 2) take a set T of h targets, agents h..n-1 the
+    complement. Returns (first, second): first[s] holds every mapping of the
+    first agents onto the s-th set T (in `itertools.combinations` order),
+    second[s] every mapping of the other agents onto its complement; each
+    pair (first[s, i], second[s, j]) is one of the n! mappings, once.
+    """
+    h = n // 2
+    sets = np.array(list(itertools.combinations(range(n), h)), dtype=np.int8).reshape(-1, h)
+    rest = np.array([[t for t in range(n) if t not in row] for row in sets.tolist()], dtype=np.int8)
+    rest = rest.reshape(len(sets), n - h)
+    first = sets[:, permutations(h).astype(np.intp)]  # (sets, h!, h)
+    second = rest[:, permutations(n - h).astype(np.intp)]  # (sets, (n-h)!, n-h)
+    return first, second
+
+
+def _first_in_order(perm: np.ndarray) -> int:
+    """Row of `perm` (distinct mappings) that comes first in `permutations(n)`.
+
+    permutations(k + 1) is k + 1 blocks of permutations(k), block pos putting
+    k at position pos: the index is sum over k of pos_k * k!, pos_k being the
+    position of k among the values <= k. Rows are filtered digit by digit,
+    the most significant (k = n - 1) first.
+    """
+    n = perm.shape[1]
+    rows = np.arange(perm.shape[0])
+    cols = np.arange(n)
+    for k in range(n - 1, 0, -1):
+        if rows.size == 1:
+            break
+        p = perm[rows]
+        loc = np.argmax(p == k, axis=1)
+        pos = np.count_nonzero((p < k) & (cols[None, :] < loc[:, None]), axis=1)
+        rows = rows[pos == pos.min()]
+    return int(rows[0])
+
+
 def mmdr_brute_force(cost: np.ndarray) -> np.ndarray:
-    """MMDR by evaluating all n! mappings (n <= 10); ties to the first in order."""
+    """MMDR by evaluating all n! mappings (n <= 10); ties to the first in order.
+
+    Every mapping is a mapping of the first n // 2 agents to some target set
+    plus one of the others to the complement (`_split_mappings`); the
+    longest edge of all n! mappings is the elementwise maximum of the two
+    halves' longest edges. Mappings attaining the smallest longest edge are
+    then compared by their full sorted cost vectors; among equal vectors the
+    first in `permutations(n)` order wins.
+    """
     cost = np.asarray(cost, dtype=float)
     n = cost.shape[0]
     if n > BRUTE_FORCE_MAX_N:
         raise ValueError(f"brute-force is limited to n <= {BRUTE_FORCE_MAX_N}, got {n}")
+    if n == 1:
+        return np.zeros(1, dtype=np.int64)
+    h = n // 2
     ranks = dense_ranks(cost).astype(np.int16)
-    perms = permutations(n)
-    best_perm = None
-    best_vec = None
-    chunk = max(1, 2_000_000 // n)
-    for start in range(0, perms.shape[0], chunk):
-        p = perms[start : start + chunk]
-        c = ranks[np.arange(n), p]
-        # The first key is the longest edge: only mappings attaining the
-        # smallest one in this chunk need a full sort and comparison.
-        top = c.max(axis=1)
-        keep = np.flatnonzero(top == top.min())
-        vec = -np.sort(-c[keep], axis=1)  # descending per mapping
-        idx = np.lexsort(vec.T[::-1])[0]
-        cand = vec[idx]
-        if best_vec is None or tuple(cand) < tuple(best_vec):
-            best_vec, best_perm = cand, p[keep[idx]]
-    return best_perm.astype(np.int64)
+    first, second = _split_mappings(n)
+    r1 = ranks[np.arange(h), first]  # (sets, h!, h)
+    r2 = ranks[np.arange(h, n), second]
+    top = np.maximum(r1.max(axis=2)[:, :, None], r2.max(axis=2)[:, None, :])  # all n! mappings
+    s, i, j = np.nonzero(top == top.min())
+    vec = -np.sort(-np.concatenate([r1[s, i], r2[s, j]], axis=1), axis=1)  # descending
+    tied = np.arange(len(vec))
+    for k in range(1, n):  # lexicographic minimum, key by key
+        col = vec[tied, k]
+        tied = tied[col == col.min()]
+    maps = np.concatenate([first[s[tied], i[tied]], second[s[tied], j[tied]]], axis=1)
+    return maps[_first_in_order(maps)].astype(np.int64)
 
 
 # --------------------------------------------------------------------------
 # MMD+MSD^2 and the greedy baselines.
 
 
+def _dense_bottleneck(cost: np.ndarray) -> float:
+    """Bottleneck value of a small dense cost matrix by a few `linear_sum_assignment` calls.
+
+    The answer is at least `lower`, the largest row or column minimum. Each
+    round solves a min-sum assignment on the edges shorter than the current
+    matching's longest edge `top`, weighted 2^(1000 (c - lower) / (top - lower))
+    (monotone in the cost, no sort needed): long edges dominate, so the new
+    matching's longest edge is usually close to the bottleneck, and the scale
+    sharpens as `top` falls. When no perfect matching below `top` exists
+    (scipy reports infeasibility exactly) or `top` reaches `lower`, `top` is
+    the bottleneck. Weights only steer the search; every step is exact.
+    """
+    n = cost.shape[0]
+    lower = max(cost.min(axis=1).max(), cost.min(axis=0).max())
+    rows = np.arange(n)
+    shifted = cost - lower
+    top = cost.max()
+    allowed = None
+    while top > lower:
+        span = top - lower
+        weights = np.exp2(np.minimum(shifted, span) / span * 1000.0)
+        if allowed is not None:
+            weights[~allowed] = np.inf
+        try:
+            match = linear_sum_assignment(weights)[1]
+        except ValueError:  # no perfect matching below top
+            break
+        on = cost[rows, match]
+        top = on.max()
+        allowed = cost < top
+        if n >= CERTIFY_N and top > lower:
+            # Usually `top` is already the bottleneck: prove it with a maximum
+            # matching of the edges below it, warm-started from `match` minus
+            # its longest edges (a few augmenting-path searches, no min-sum).
+            r, c = np.nonzero(allowed)
+            if np.any(max_matching(n, r, c, np.where(on < top, match, -1)) < 0):
+                break
+    return float(top)
+
+
 def mmd_msd2(cost: np.ndarray) -> np.ndarray:
     """MMD+MSD^2 (Algorithm 4): bottleneck, then min sum of squares under it."""
     cost = np.asarray(cost, dtype=float)
     n = cost.shape[0]
-    if n <= SMALL_N:
-        # Bottleneck from a near-lexicographic warm start, then one min-sum.
-        weights = _heuristic_weights(cost)
-        match = linear_sum_assignment(weights)[1]
-        all_ok = np.ones((n, n), dtype=bool)
-        b, _ = _descend(cost, all_ok, ~all_ok, weights, match)
-        return _lsa(np.where(cost <= b, cost * cost, np.inf))
+    if n <= MMD_DENSE_N:
+        return _lsa(np.where(cost <= _dense_bottleneck(cost), cost * cost, np.inf))
     _, _, edges = bottleneck(cost)
     dense = np.full((n, n), np.inf)
     dense[edges.rows, edges.cols] = edges.keys * edges.keys

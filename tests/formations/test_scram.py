@@ -277,6 +277,7 @@ def test_edge_list_paths_against_brute_force(monkeypatch):
     # run them on small problems too (ties included) to compare with brute force.
     monkeypatch.setattr(scram, "SMALL_N", 0)
     monkeypatch.setattr(scram, "MMDR_DENSE_N", 0)
+    monkeypatch.setattr(scram, "MMD_DENSE_N", 0)
     rng = np.random.default_rng(11)
     for _ in range(300):
         n = int(rng.integers(1, 7))
@@ -324,6 +325,7 @@ def test_dense_and_edge_list_mmdr_agree_at_medium_n(n, monkeypatch):
             m.setattr(scram, "MMDR_DENSE_N", 0)  # dense Sokkalingam-Aneja only
             np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref)
             m.setattr(scram, "SMALL_N", 0)  # edge lists
+            m.setattr(scram, "MMD_DENSE_N", 0)
             np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref)
             np.testing.assert_array_equal(scram.mmd_msd2(cost), mmd)
 
@@ -344,3 +346,103 @@ def test_integer_hungarian_list_path_matches_array_path(monkeypatch):
                 slow = hungarian.hungarian(weights.copy())
             np.testing.assert_array_equal(fast.assignment, slow.assignment)
             assert list(fast.u) == list(slow.u) and list(fast.v) == list(slow.v)
+
+
+def test_dense_bottleneck_against_brute_force():
+    # `_dense_bottleneck` (the MMD+MSD^2 fast path) on seeded random problems,
+    # continuous and on small integer grids (many tied distances).
+    rng = np.random.default_rng(14)
+    for _ in range(400):
+        n = int(rng.integers(1, 7))
+        cost = scram.distances(*random_problem(rng, n))
+        assert scram._dense_bottleneck(cost) == reference(cost)["makespan"]
+    for n in (20, 60, 150):
+        for side in (n, 4 * n):
+            k = rng.choice(side * side, 2 * n, replace=False)
+            pts = np.stack([k // side, k % side], axis=1).astype(float)
+            cost = scram.distances(pts[:n], pts[n:])
+            assert scram._dense_bottleneck(cost) == bottleneck(cost)[0]
+
+
+def test_distances_exact_on_integer_grids():
+    # Equal distances on integer points are exactly equal (ties stay ties).
+    a = np.array([[0.0, 0.0], [3.0, 4.0], [1e6, 0.0]])
+    t = np.array([[3.0, 4.0], [5.0, 0.0], [0.0, 5.0], [1e6 + 3.0, -4.0]])
+    d = scram.distances(a, t)
+    assert d[0, 0] == d[0, 1] == d[0, 2] == 5.0
+    assert d[2, 3] == 5.0
+    np.testing.assert_allclose(d, np.hypot(a[:, None, 0] - t[None, :, 0], a[:, None, 1] - t[None, :, 1]))
+
+
+def test_flow_matching_and_warm_bottleneck(monkeypatch):
+    # The compiled max-flow matching (cold starts of large tests) against the
+    # numpy augmenting-path matching, and bottlenecks computed through it
+    # (sampled thresholds, warm starts from failed prefixes) against brute force.
+    from formations import bottleneck as bn
+
+    rng = np.random.default_rng(15)
+    for _ in range(50):
+        n = int(rng.integers(1, 40))
+        m = int(rng.integers(0, 4 * n))
+        rows, cols = rng.integers(0, n, m), rng.integers(0, n, m)
+        flat = np.unique(rows * n + cols)
+        rows, cols = flat // n, flat % n
+        a = bn.flow_matching(n, rows, cols)
+        b = bn.max_matching(n, rows, cols)
+        assert np.count_nonzero(a >= 0) == np.count_nonzero(b >= 0)
+        ok = a >= 0
+        assert np.unique(a[ok]).size == ok.sum()
+        assert np.isin(np.flatnonzero(ok) * n + a[ok], flat).all()
+    monkeypatch.setattr(bn, "FLOW_MIN_EDGES", 0)
+    for _ in range(200):
+        n = int(rng.integers(1, 7))
+        cost = scram.distances(*random_problem(rng, n))
+        assert bn.bottleneck(cost)[0] == reference(cost)["makespan"]
+    for n in (70, 130):
+        for side in (n // 4, 4 * n):
+            k = rng.choice(side * side, 2 * n, replace=n > side * side // 2)
+            pts = np.stack([k // side, k % side], axis=1).astype(float)
+            cost = scram.distances(pts[:n], pts[n:])
+            value, match, edges = bn.bottleneck(cost)
+            assert value == scram._dense_bottleneck(cost)
+            assert cost[np.arange(n), match].max() == value
+            assert edges.keys.size == np.count_nonzero(cost <= value)
+
+
+def test_brute_force_tie_order():
+    # The split evaluation of all n! mappings keeps the documented tie rule:
+    # the first lexicographically optimal mapping in `permutations(n)` order.
+    rng = np.random.default_rng(16)
+    for _ in range(150):
+        n = int(rng.integers(1, 8))
+        cost = scram.distances(*random_problem(rng, n))
+        perms = scram.permutations(n).astype(np.int64)
+        vecs = -np.sort(-scram.dense_ranks(cost)[np.arange(n), perms], axis=1)
+        first = np.lexsort(vecs.T[::-1])[0]  # stable: the first among equal vectors
+        np.testing.assert_array_equal(scram.mmdr_brute_force(cost), perms[first])
+
+
+def test_reachability_level_test_and_matching_certificate(monkeypatch):
+    # `_forced_prefix` by reachability (CYCLE_N) and `_dense_bottleneck`'s
+    # augmenting-path certificate (CERTIFY_N) on every size, against brute
+    # force (ties included) and against the min-sum forms at medium n.
+    rng = np.random.default_rng(17)
+    problems = [scram.distances(*random_problem(rng, int(rng.integers(1, 7)))) for _ in range(300)]
+    medium = []
+    for n in (12, 30, 60):
+        for side in (12, 40):
+            k = rng.choice(side * side, 2 * n, replace=False)
+            pts = np.stack([k // side, k % side], axis=1).astype(float)
+            medium.append(scram.distances(pts[:n], pts[n:]))
+    with monkeypatch.context() as m:
+        m.setattr(scram, "CERTIFY_N", 10**9)  # min-sum certificates only
+        slow = [(scram.cost_vector(c, scram.mmdr_n5(c)), scram.mmd_msd2(c)) for c in medium]
+    monkeypatch.setattr(scram, "CYCLE_N", 0)
+    monkeypatch.setattr(scram, "CERTIFY_N", 0)
+    for cost in problems:
+        ref = reference(cost)
+        np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref["lex"])
+        assert scram._dense_bottleneck(cost) == ref["makespan"]
+    for cost, (vec, mmd) in zip(medium, slow):
+        np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), vec)
+        np.testing.assert_array_equal(scram.mmd_msd2(cost), mmd)
