@@ -20,9 +20,11 @@ rosenbrock) or a task file of layers (optimization/tasks/NAME.task, or a path;
 walk.task is the walk part of Figure 4.1).
 
 Each generation prints one line on stderr; the job directory (--out) holds
-checkpoint.pkl, history.csv, best.txt (UT-style parameters) and fitness.png,
-all updated after every generation. A task file runs its layers in order, each
-in OUT/LAYER/. A killed job continues with --resume OUT and ends as it would have.
+checkpoint.pkl, history.csv, best.txt (UT-style parameters), mean.txt (the
+search distribution's mean: with noisy trials usually the better pick) and
+fitness.png, all updated after every generation. A task file runs its layers in
+order, each in OUT/LAYER/. A killed job continues with --resume OUT and ends as
+it would have.
 
 examples:
   soccer optimize walk_forward --option seconds=3 --population 8 --generations 5 --out runs/fwd

@@ -16,6 +16,10 @@ Files in the job's directory, all written atomically (temporary file, then
 * ``history.csv``: one row per generation (fitness best, mean, spreads, sigma);
 * ``best.txt``: the best point's parameters, UT style (all sets the task uses,
   prefixed by set), readable by the sets' loaders (`skills.walk.load_walk_sets`);
+* ``mean.txt``: the same for the mean of CMA-ES's search distribution. With
+  noisy trials the best point's fitness is biased up (it is the luckiest of
+  many draws); the mean averages over the population and is usually the
+  better pick to validate on fresh seeds;
 * ``fitness.png``: best and mean fitness per generation (redrawn at most every
   `PLOT_EVERY` seconds of wall time, and when the job ends).
 
@@ -47,6 +51,7 @@ from optimization.task import Task
 CHECKPOINT = "checkpoint.pkl"
 HISTORY = "history.csv"
 BEST = "best.txt"
+MEAN = "mean.txt"
 PLOT = "fitness.png"
 FORMAT = 1
 PLOT_EVERY = 30.0  # s of wall time between redraws of the plot
@@ -257,6 +262,11 @@ class Job:
                       f"{self.settings.trials} trial(s), generation {self.best.generation + 1}, "
                       f"seed {self.settings.seed}\n" + optimized_lines(sp))
             write_param_file(self.out_dir / BEST, sp.values(self.best.z), header)
+            write_param_file(self.out_dir / MEAN, sp.values(np.asarray(self.es.mean, dtype=float)),
+                             f"mean of the CMA-ES search distribution of "
+                             f"{self.problem.label or self.problem.task.name} (task "
+                             f"{self.problem.task.name}) after generation {self.generation}, "
+                             f"seed {self.settings.seed}\n" + optimized_lines(sp))
         now = time.monotonic()
         if self.plot and (self.done or self._plotted is None or now - self._plotted > PLOT_EVERY):
             write_plot(self.out_dir / PLOT, self.history, self.problem.label or self.problem.task.name)

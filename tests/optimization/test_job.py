@@ -42,6 +42,18 @@ def test_cmaes_improves_an_analytic_task(tmp_path, name):
     assert (tmp_path / "best.txt").exists() and len(rows(tmp_path / "history.csv")) == 25
 
 
+def test_mean_file_holds_the_search_distribution_mean(tmp_path):
+    from skills.params import read_entries
+
+    task = make_task("sphere", dim=4, noise=0.3)
+    start = task.trial(load_values(task.sets, 0), 0).fitness
+    run(task, tmp_path, generations=25, trials=2)
+    entries = read_entries([tmp_path / "mean.txt"])
+    values = {"analytic": {n[len("analytic_"):]: e.value for n, e in entries.items()}}
+    mean_fitness = task.trial(values, 0).fitness  # the noise is seeded: same draw as `start`
+    assert mean_fitness > 0.2 * start  # the distribution has moved to the optimum too
+
+
 def test_noisy_trials_report_mean_and_spread(tmp_path):
     r = run(make_task("sphere", dim=3, noise=0.5), tmp_path, trials=4, generations=3)
     assert all(h["trial_spread"] > 0 for h in r.history)
