@@ -54,6 +54,7 @@ class Timing:
 
     physics: float = 0.0
     sensors: float = 0.0
+    vision: float = 0.0  # part of sensors
     effectors: float = 0.0
     referee: float = 0.0
     agents: float = 0.0
@@ -142,7 +143,11 @@ class Match:
     def percepts(self) -> list[Percept]:
         """Every player's percept for the current cycle."""
         ref = self.referee
-        vision = self.vision.see_all() if self.cycle % VISION_PERIOD == 0 else {}
+        vision = {}
+        if self.cycle % VISION_PERIOD == 0:
+            t0 = wallclock.perf_counter()
+            vision = self.vision.see_all()
+            self.timing.vision += wallclock.perf_counter() - t0
         return percepts(self.world, self.proprio, vision, ref.game_time, ref.mode.value,
                         (ref.score["L"], ref.score["R"]), self.heard, self.warnings)
 
@@ -179,18 +184,18 @@ class Match:
     def _apply(self, actions: list[Action]) -> tuple[np.ndarray, dict[int, str], dict[int, list[str]]]:
         """Effectors: joint velocities, says and beams. Bad actions are refused per agent."""
         w = self.world
-        parts = []
         said: dict[int, str] = {}
         warnings: dict[int, list[str]] = {}
-        beam_ok = self.referee.beam_allowed()
+        try:  # the usual case: every agent sends the right number of finite velocities
+            v = np.concatenate([a.joint_velocities for a in actions], dtype=float)
+            ok = v.shape == self._max_speed.shape and bool(np.isfinite(v).all()) and all(
+                np.shape(a.joint_velocities) == (n,) for a, n in zip(actions, self.n_joints))
+        except (AttributeError, TypeError, ValueError):
+            ok = False
+        if not ok:
+            v = np.concatenate([self._velocities(i, a, warnings) for i, a in enumerate(actions)])
+        beam_ok = None
         for i, a in enumerate(actions):
-            n = self.n_joints[i]
-            v = np.asarray(getattr(a, "joint_velocities", None), dtype=float)
-            if v.shape != (n,) or not np.all(np.isfinite(v)):
-                warnings.setdefault(i, []).append(
-                    f"joint_velocities must be {n} finite numbers; got shape {v.shape}")
-                v = np.zeros(n)
-            parts.append(v)
             if a.say is not None:
                 err = say_error(a.say)
                 if err is None:
@@ -199,6 +204,8 @@ class Match:
                     log.warning("%s: %s", w.players[i].name, err)
                     warnings.setdefault(i, []).append(err)
             if a.beam is not None:
+                if beam_ok is None:
+                    beam_ok = self.referee.beam_allowed()
                 if beam_ok:
                     self._beam(i, a.beam)
                 else:
@@ -206,8 +213,21 @@ class Match:
             target = a.annotations.get("target") if a.annotations else None
             self.targets[i] = target if target is not None else (np.nan, np.nan)
         ctrl = np.zeros(w.model.nu)
-        ctrl[self._act_index] = np.clip(np.concatenate(parts), -self._max_speed, self._max_speed)
+        ctrl[self._act_index] = np.clip(v, -self._max_speed, self._max_speed)
         return ctrl, said, warnings
+
+    def _velocities(self, i: int, a: Action, warnings: dict[int, list[str]]) -> np.ndarray:
+        """Agent i's joint velocities, or zeros and a warning when they are malformed."""
+        n = self.n_joints[i]
+        try:
+            v = np.asarray(getattr(a, "joint_velocities", None), dtype=float)
+        except (TypeError, ValueError):
+            v = np.zeros(0)
+        if v.shape != (n,) or not np.all(np.isfinite(v)):
+            warnings.setdefault(i, []).append(
+                f"joint_velocities must be {n} finite numbers; got shape {v.shape}")
+            v = np.zeros(n)
+        return v
 
     def _beam(self, i: int, beam: tuple[float, float, float]) -> None:
         """Beam player i to (x, y, heading) of its team frame, with the league's noise."""

@@ -16,16 +16,21 @@ class Proprioception:
         players = world.players
         self._q = np.concatenate([p.joint_qpos for p in players])
         self._s = np.concatenate([p.sensors for p in players])
-        self._q_split = np.cumsum([len(p.joint_qpos) for p in players])[:-1]
-        self._s_split = np.cumsum([len(p.sensors) for p in players])[:-1]
+        # Per player: (first joint, end of joints, first sensor, end of sensors) in the
+        # two gathered arrays; a player's sensors are gyro (3), accelerometer (3), soles.
+        q_end = np.cumsum([len(p.joint_qpos) for p in players]).tolist()
+        s_end = np.cumsum([len(p.sensors) for p in players]).tolist()
+        self._slices = [(qe - len(p.joint_qpos), qe, se - len(p.sensors), se)
+                        for p, qe, se in zip(players, q_end, s_end)]
 
     def read(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
         """Per player: (joint angles rad, gyro rad/s, accelerometer m/s^2, sole forces N);
         gyro and accelerometer in the torso frame."""
         d = self.world.data
-        q = np.split(d.qpos[self._q], self._q_split)
-        s = np.split(d.sensordata[self._s], self._s_split)
-        return [(qi, si[0:3], si[3:6], si[6:]) for qi, si in zip(q, s)]
+        q = d.qpos[self._q]
+        s = d.sensordata[self._s]
+        return [(q[q0:q1], s[s0:s0 + 3], s[s0 + 3:s0 + 6], s[s0 + 6:s1])
+                for q0, q1, s0, s1 in self._slices]
 
 
 def percepts(world: World, proprio: Proprioception, vision: dict[int, Vision], game_time: float,
@@ -34,13 +39,11 @@ def percepts(world: World, proprio: Proprioception, vision: dict[int, Vision], g
     """Every player's percept for the current cycle of `world`."""
     heard = heard or {}
     warnings = warnings or {}
-    out = []
-    for i, (q, gyro, acc, soles) in enumerate(proprio.read()):
-        p = world.players[i]
-        out.append(Percept(
-            time=round(world.time, 6), game_time=round(game_time, 6), play_mode=play_mode,
-            score_left=score[0], score_right=score[1], side=p.side, unum=p.unum,
-            robot_type=p.robot_type, joints=q, gyro=gyro, accel=acc, foot_forces=soles,
-            vision=vision.get(i), heard=tuple(heard.get(i, ())), warnings=tuple(warnings.get(i, ())),
-        ))
-    return out
+    time, game_time = round(world.time, 6), round(game_time, 6)
+    left, right = score
+    return [Percept(
+        time=time, game_time=game_time, play_mode=play_mode, score_left=left, score_right=right,
+        side=p.side, unum=p.unum, robot_type=p.robot_type, joints=q, gyro=gyro, accel=acc,
+        foot_forces=soles, vision=vision.get(i), heard=tuple(heard.get(i, ())),
+        warnings=tuple(warnings.get(i, ())),
+    ) for i, (p, (q, gyro, acc, soles)) in enumerate(zip(world.players, proprio.read()))]

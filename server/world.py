@@ -84,9 +84,6 @@ class World:
         self.geom_owner = geom_owner
         self.ball_geom = m.geom("ball").id
         self.ball_body = m.body("ball").id
-        self._robot_geoms = np.nonzero((geom_owner >= 0) & (m.geom_contype > 0))[0]
-        reach = m.geom_rbound[self._robot_geoms] + m.geom_rbound[self.ball_geom] + 0.01
-        self._touch_dist2 = reach * reach
         ball_joint = m.joint("ball_x").id  # slides x, y, z then the ball joint: a free joint's layout
         self.ball_qpos = int(m.jnt_qposadr[ball_joint])
         self.ball_qvel = int(m.jnt_dofadr[ball_joint])
@@ -135,16 +132,14 @@ class World:
         n = d.ncon
         if n == 0:
             return set()
-        # Nothing touches the ball unless a robot geom's bounding sphere reaches it.
-        gap = d.geom_xpos[self._robot_geoms] - d.geom_xpos[self.ball_geom]
-        if not (np.einsum("ij,ij->i", gap, gap) < self._touch_dist2).any():
-            return set()
-        g = d.contact.geom[:n]
-        hit = (g[:, 0] == self.ball_geom) | (g[:, 1] == self.ball_geom)
+        c = d.contact
+        g1, g2 = c.geom1, c.geom2
+        b = self.ball_geom
+        first = g1 == b
+        hit = first | (g2 == b)
         if not hit.any():
             return set()
-        other = np.where(g[hit, 0] == self.ball_geom, g[hit, 1], g[hit, 0])
-        owners = self.geom_owner[other]
+        owners = self.geom_owner[np.where(first, g2, g1)[hit]]  # the other geom of each pair
         return {int(o) for o in owners if o >= 0}
 
     # --------------------------------------------------------------- ground truth

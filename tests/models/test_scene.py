@@ -54,3 +54,15 @@ def test_field_dimensions():
     assert np.isclose(np.abs(lines[..., 0]).max(), 15.0)
     assert np.isclose(np.abs(lines[..., 1]).max(), 10.0)
     assert field.LANDMARKS["G1R"] == (15.0, 1.05, 0.8)
+
+
+def test_colliding_field_geoms_have_bodies_of_their_own():
+    """The floor and goal frames sit in static bodies of their own (cheaper
+    collisions than one many-geom world body), and still collide as before."""
+    m = mujoco.MjModel.from_xml_string(scene.scene_mjcf(Lineup((0,), (0,))))
+    world_geoms = range(m.body_geomadr[0], m.body_geomadr[0] + m.body_geomnum[0])
+    assert m.body_geomnum[0] > 0 and not any(m.geom_contype[g] for g in world_geoms)
+    for name in ("floor", "G1L", "goalR_back"):
+        b = m.geom(name).bodyid[0]
+        assert b != 0 and m.body_geomnum[b] == 1 and m.body_weldid[b] == 0
+        assert m.geom_contype[m.geom(name).id]

@@ -5,9 +5,12 @@ import math
 import numpy as np
 import pytest
 
+from agent.posture import stand_pose
 from models import field
 from models.rules import VISION_SIGMA_HORIZONTAL, VISION_SIGMA_VERTICAL
+from models.scene import Lineup
 from server.vision import VisionSensor, clip_segments, in_cone, to_polar
+from server.world import World
 from tests.server.helpers import far_away, place_standing, standing_match
 
 
@@ -86,3 +89,36 @@ def test_clip_segments_geometry():
     assert ca[0] == pytest.approx([1.0, -t, 0.0])
     assert cb[0] == pytest.approx([1.0, t, 0.0])
     assert ca[2] == pytest.approx(a[2]) and cb[2] == pytest.approx(b[2])
+
+
+def test_each_view_is_the_same_seen_alone_or_together():
+    """Without noise, a player's view does not depend on who else is computed with it."""
+    m = standing_match(left=(0, 1, 4), right=(2, 3))
+    for i, (x, y, th) in enumerate([(0, 0, 0), (2, 0.5, 3.0), (-1, -1, 0.3), (3, 0, math.pi),
+                                    (1, 1, -2.5)]):
+        place_standing(m, i, x, y, th)
+    m.world.place_ball((1.0, 0.2))
+    sensor = VisionSensor(m.world, np.random.default_rng(4))
+    sensor.sigma[:] = 0.0
+    together = sensor.see_all()
+    assert sorted(together) == [0, 1, 2, 3, 4]
+    assert sensor.see_all([]) == {}
+    for i in range(5):
+        alone = sensor.see_all([i])[i]
+        v = together[i]
+        assert alone.landmark_names == v.landmark_names
+        assert (alone.ball is None) == (v.ball is None)
+        for f in ("landmarks", "lines", "players", "player_ours", "player_unum", "player_part"):
+            assert np.allclose(getattr(alone, f), getattr(v, f), atol=1e-12), f
+        mine = (v.player_unum == m.world.unum_of[i]) & (v.player_ours)
+        assert not mine.any()  # never itself
+        others = [j for j in range(5) if j != i]
+        assert set(v.player_unum[v.player_part == 0]) <= {int(m.world.unum_of[j]) for j in others}
+    assert sum(len(v.players) for v in together.values()) > 0
+
+
+def test_single_robot_sees_the_field():
+    w = World(Lineup((0,), ()))  # a training world: one robot, nobody else to see
+    w.place_robot(0, 0.0, 0.0, 0.0, joints=stand_pose(0))
+    v = VisionSensor(w, np.random.default_rng(0)).see_all()[0]
+    assert set(v.landmark_names) == {"F1R", "F2R", "G1R", "G2R"} and len(v.players) == 0
