@@ -82,8 +82,13 @@ def test_decel_speed_is_monotone_signed_and_zero_inside_the_buffer():
 
 
 def test_shipped_parameters_load():
+    from skills.params import read_entries
+    from skills.skill import skill_path
+
     p = ApproachParams.load()
-    assert 0.0 < p.max_decel_x < 1.0 and 0.0 < p.max_decel_y < 1.0 and p.buffer == pytest.approx(0.005)
+    file_mm = read_entries([skill_path("approach.params")])["approach_buffer"].value
+    assert 0.0 < p.max_decel_x < 1.0 and 0.0 < p.max_decel_y < 1.0
+    assert p.buffer == pytest.approx(file_mm / 1000.0) and 0.0 < p.buffer < 0.05  # mm -> m
 
 
 def test_approach_is_ready_only_after_standing_still_in_the_box():
