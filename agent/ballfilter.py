@@ -17,8 +17,10 @@ import math
 import numpy as np
 from filterpy.kalman import KalmanFilter
 
-ROLLING_DRAG = 0.31  # 1/s: dv/dt = -ROLLING_DRAG v - ROLLING_DECELERATION v/|v|
-ROLLING_DECELERATION = 0.044  # m/s^2
+from models.field import BALL_ROLL_DECEL, BALL_ROLL_DRAG, rolling_distance
+
+ROLLING_DRAG = BALL_ROLL_DRAG  # 1/s: dv/dt = -ROLLING_DRAG v - ROLLING_DECELERATION v/|v|
+ROLLING_DECELERATION = BALL_ROLL_DECEL  # m/s^2
 
 
 class BallFilter:
@@ -149,10 +151,4 @@ class BallFilter:
         return math.log1p(k * speed / a) / k if k > 0 else speed / a
 
 
-def rolling_distance(speed: float, drag: float = ROLLING_DRAG,
-                     deceleration: float = ROLLING_DECELERATION) -> float:
-    """Distance (m) a ball rolling at `speed` (m/s) travels before it rests, under
-    dv/dt = -drag v - deceleration."""
-    if drag <= 0:
-        return speed * speed / (2.0 * deceleration)
-    return speed / drag - deceleration / drag ** 2 * math.log1p(drag * speed / deceleration)
+__all__ = ["ROLLING_DECELERATION", "ROLLING_DRAG", "BallFilter", "rolling_distance"]

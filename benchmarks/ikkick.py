@@ -7,12 +7,11 @@ One JSON line per kick and type. Each try: a robot (Trainer, no referee) stands
 0.5 s at the origin, the ball is put at the kick's `spec.ball` plus a seeded
 uniform offset within +-jitter (m) on x and y, the kick is reset with the ball's
 true offset (robot frame) and played from percepts only; then the robot stands
-while the ball rolls to a stop (at most `--roll` s; the rest is extrapolated with
-the ball's drag and rolling friction, agent.ballfilter.rolling_distance). Figures: distance the ball moved
-(m), direction error (deg, against `spec.direction`), success (the ball's
-displacement along the kick's direction is at least 1 m and the robot did not
-fall) and falls. The kick never reads simulator state; the trial does, for the
-figures.
+while the ball rolls to a stop (at most `--roll` s; the rest is extrapolated by
+`World.ball_rest_position`). Figures: distance the ball moved (m), direction
+error (deg, against `spec.direction`), success (the ball's displacement along
+the kick's direction is at least 1 m and the robot did not fall) and falls. The
+kick never reads simulator state; the trial does, for the figures.
 """
 
 from __future__ import annotations
@@ -26,7 +25,6 @@ import zlib
 
 import numpy as np
 
-from agent.ballfilter import rolling_distance
 from benchmarks.walk import new_robot
 from models.messages import Action
 from skills.ikkick import IkKick, ik_kicks
@@ -65,11 +63,7 @@ def kick_trial(t: int, kick: IkKick, offset: tuple[float, float] = (0.0, 0.0), r
         tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0))})
         if w.torso_up()[0] < 0.5:
             fell = True
-    d = w.ball_position()[:2] - b0
-    v = w.ball_velocity()[:2]
-    sp = float(np.linalg.norm(v))
-    if sp > 0.02:  # still rolling: extrapolate to the stop along its velocity
-        d = d + v / sp * rolling_distance(sp)
+    d = w.ball_rest_position() - b0  # a ball still rolling is carried on to its stop
     dx, dy = c * d[0] + s * d[1], -s * d[0] + c * d[1]
     dist = math.hypot(dx, dy)
     direction = math.atan2(dy, dx)

@@ -28,6 +28,10 @@ BALL_RADIUS = 0.042  # m
 BALL_MASS = 0.026  # kg
 BALL_LINEAR_DRAG = 0.01  # N s/m: force -0.01 v on the ball's center (NAO.md, SimSpark's drag)
 BALL_ROLLING_FRICTION = 0.001  # m; brings a slow ball to rest
+# How the ball on the ground slows down, fitted on the simulated ball (rolls of 1-6 m/s):
+# dv/dt = -BALL_ROLL_DRAG v - BALL_ROLL_DECEL v/|v| (the drag and the rolling friction).
+BALL_ROLL_DRAG = 0.31  # 1/s
+BALL_ROLL_DECEL = 0.045  # m/s^2
 # Ball contacts (time constant s, damping ratio): restitution about 0.5. The league's
 # ball bounces with 0.8 (NAO.md); a damping ratio under 0.2 at the 5 ms step makes a
 # dropped ball gain energy in MuJoCo's soft contacts, so 0.2 is as lively as it stays stable.
@@ -49,6 +53,15 @@ POSTS = {
 LANDMARKS = {**FLAGS, **POSTS}
 LANDMARK_NAMES = tuple(LANDMARKS)
 LANDMARK_POSITIONS = np.array([LANDMARKS[n] for n in LANDMARK_NAMES])
+
+
+def rolling_distance(speed: float, drag: float = BALL_ROLL_DRAG,
+                     deceleration: float = BALL_ROLL_DECEL) -> float:
+    """Distance (m) a ball rolling at `speed` (m/s) travels before it rests, under
+    dv/dt = -drag v - deceleration: v/drag - deceleration/drag^2 ln(1 + drag v / deceleration)."""
+    if drag <= 0:
+        return speed * speed / (2.0 * deceleration)
+    return speed / drag - deceleration / drag ** 2 * math.log1p(drag * speed / deceleration)
 
 
 def field_lines(circle_segments: int = 10) -> np.ndarray:

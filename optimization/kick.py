@@ -46,7 +46,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from agent.ballfilter import rolling_distance
 from agent.kicker import DONE, KICK, Kicker
 from models.messages import Action
 from models.scene import Lineup
@@ -126,10 +125,7 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
             end = w.time + ROLL_LIMIT
         if contact is not None and kicker.state == DONE and np.linalg.norm(w.ball_velocity()[:2]) < STOPPED:
             break
-    moved = w.ball_position()[:2] - ball
-    v = w.ball_velocity()[:2]
-    if np.linalg.norm(v) >= STOPPED and w.ball_position()[2] < 0.05:  # still rolling: to its stop
-        moved = moved + v / np.linalg.norm(v) * rolling_distance(float(np.linalg.norm(v)))
+    moved = w.ball_rest_position() - ball  # a ball still rolling is carried on to its stop
     u = np.array([math.cos(target_dir), math.sin(target_dir)])
     toward = float(moved @ u)
     lateral = float(moved[1] * u[0] - moved[0] * u[1])

@@ -196,6 +196,16 @@ class World:
         d.qvel[v + 3:v + 6] = 0.0
         mujoco.mj_forward(self.model, d)
 
+    def ball_rest_position(self) -> np.ndarray:
+        """Where the ball will come to rest (x, y; m, world frame) if nothing touches it:
+        a ball rolling on the ground is carried on by `field.rolling_distance`, one in
+        the air or at rest stays where it is (ground truth for trials and benchmarks)."""
+        p, v = self.ball_position()[:2], self.ball_velocity()[:2]
+        speed = float(np.hypot(v[0], v[1]))
+        if speed < 0.02 or self.ball_position()[2] > 2.0 * field.BALL_RADIUS:
+            return p
+        return p + v * (field.rolling_distance(speed) / speed)
+
     def set_ball_velocity(self, velocity: tuple[float, float, float]) -> None:
         """Give the ball a linear velocity (m/s, world frame), rolling without slip
         when it lies on the ground."""

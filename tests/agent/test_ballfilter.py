@@ -75,8 +75,8 @@ def test_velocity_of_a_trainer_rolled_ball_within_20_percent():
 
 @pytest.mark.parametrize("speed", [0.8, 4.0])
 def test_the_motion_model_matches_the_simulated_ball(speed):
-    """The agents' prior (drag and rolling friction) against the MuJoCo ball rolled by the
-    trainer on an empty field: where it stops."""
+    """The ball's motion model (drag and rolling friction, the agents' prior and the
+    trials' extrapolation) against the MuJoCo ball rolled by the trainer: where it stops."""
     from models.scene import Lineup
     from server.world import World
 
@@ -84,11 +84,14 @@ def test_the_motion_model_matches_the_simulated_ball(speed):
     w.place_ball((-10.0, 0.0))
     w.set_ball_velocity((speed, 0.0, 0.0))
     ctrl = np.zeros(w.model.nu)
-    t = 0.0
+    t, predicted = 0.0, None
     while np.hypot(*w.ball_velocity()[:2]) > 0.01 and t < 30.0:
         w.step(ctrl)
         t += 0.02
+        if predicted is None and t >= 0.5:  # the trials' truth-side extrapolation, mid-roll
+            predicted = w.ball_rest_position()
     travelled = w.ball_position()[0] + 10.0
+    assert predicted[0] + 10.0 == pytest.approx(travelled, rel=0.1)
     assert abs(w.ball_position()[1]) < 0.01
     assert travelled == pytest.approx(rolling_distance(speed), rel=0.1)
     f = BallFilter()

@@ -18,7 +18,6 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from agent.ballfilter import rolling_distance
 from models.messages import Action
 from models.scene import Lineup
 from server.trainer import Trainer
@@ -53,7 +52,7 @@ def kick_once(kick: KeyframeKick, robot_type: int, offset: tuple[float, float] =
     """Stand the robot at the origin facing +x with the ball at the kick's offset (+ `offset`, m),
     play the kick through `Motion.command` from percepts only, then stand until the ball stops
     or `limit` s after the kick's start; a ball still rolling then is extrapolated to its stop
-    (drag and rolling friction, `agent.ballfilter.rolling_distance`)."""
+    (`World.ball_rest_position`)."""
     tr = Trainer(Lineup((robot_type,), ()), vision=False)
     w = tr.world
     mo = Motion(robot_type)
@@ -76,11 +75,7 @@ def kick_once(kick: KeyframeKick, robot_type: int, offset: tuple[float, float] =
         if (kick.done and w.time - t0 > kick.spec.duration + 0.5
                 and np.linalg.norm(w.ball_velocity()[:2]) < 0.02):
             break
-    d = w.ball_position()[:2] - b0
-    v = w.ball_velocity()[:2]
-    speed = float(np.hypot(*v))
-    if speed >= 0.02 and w.ball_position()[2] < 0.05:  # still rolling: extrapolate to its stop
-        d = d + v / speed * rolling_distance(speed)
+    d = w.ball_rest_position() - b0  # a ball still rolling is carried on to its stop
     return Outcome(float(np.hypot(*d)), math.atan2(d[1], d[0]), fell, w.time - t0)
 
 
