@@ -59,27 +59,27 @@ class ApproachParams:
     BUFFER; the others say when to switch from walking to approaching, how to go
     round the ball and how to stop."""
 
-    max_decel_x: float = 0.15  # m/s^2
-    max_decel_y: float = 0.1  # m/s^2
-    buffer: float = 0.005  # m
-    turn_gain: float = 1.0  # turn input per rad of heading error (approach-to-kick set)
-    max_turn: float = 0.3  # largest turn input near the ball
-    max_speed: float = 0.6  # largest sideways and backward inputs near the ball
-    near: float = 0.35  # m from the kick pose: the approach-to-kick set within it
-    around: float = 0.4  # m: radius of the circle round the ball
-    stage: float = 0.15  # m behind the kick pose: where the go-to-target walk aims
-    stop: float = 0.5  # fraction of the tolerance box that counts as lined up (creep, fix)
-    creep: float = 0.3  # least forward input creeping up to the ball
-    lead: float = -0.02  # m: the creep stops this far short of the pose (walking estimate)
-    settle: float = 0.3  # s standing before the pose is judged again
-    lookahead: float = 0.1  # m: steering aims this far beyond the pose along the kick line
-    fast_creep: float = 0.15  # m: creeping farther than this from the pose may use the go-to-target set
-    fast: float = 0.5  # m: the go-to-target set only for a waypoint farther than this and ahead
-    back: float = 0.06  # m: backing off (too close, off to the side or turned) ends this far behind the pose
+    max_decel_x: float = 0.123  # m/s^2
+    max_decel_y: float = 0.0615  # m/s^2
+    buffer: float = 0.0101  # m
+    turn_gain: float = 0.854  # turn input per rad of heading error (approach-to-kick set)
+    max_turn: float = 0.235  # largest turn input near the ball
+    max_speed: float = 0.645  # largest sideways and backward inputs near the ball
+    near: float = 0.245  # m from the kick pose: the approach-to-kick set within it
+    around: float = 0.513  # m: radius of the circle round the ball
+    stage: float = 0.0977  # m behind the kick pose: where the go-to-target walk aims
+    stop: float = 0.1  # fraction of the tolerance box that counts as lined up (creep, fix)
+    creep: float = 0.236  # least forward input creeping up to the ball
+    lead: float = 0.00103  # m: the creep stops this far short of the pose (walking estimate)
+    settle: float = 0.264  # s standing before the pose is judged again
+    lookahead: float = 0.115  # m: steering aims this far beyond the pose along the kick line
+    fast_creep: float = 0.166  # m: creeping farther than this from the pose may use the go-to-target set
+    fast: float = 0.669  # m: the go-to-target set only for a waypoint farther than this and ahead
+    back: float = 0.0339  # m: backing off (too close, off to the side or turned) ends this far behind
     fix_turn_gain: float = 1.5  # turn input per rad of heading error fixing on the spot
-    fix_max_turn: float = 0.4  # largest turn input fixing on the spot
-    fix_time: float = 0.6  # s: longest burst of steps fixing a small error before looking again
-    smooth: float = 0.25  # s: time constant of the low-passed error used to line up
+    fix_max_turn: float = 0.379  # largest turn input fixing on the spot
+    fix_time: float = 0.768  # s: longest burst of steps fixing a small error before looking again
+    smooth: float = 0.02  # s: time constant of the low-passed error used to line up
 
     @classmethod
     def load(cls, paths: Iterable[PathLike] = ()) -> ApproachParams:

@@ -89,6 +89,7 @@ def test_shipped_parameters_load():
     file_mm = read_entries([skill_path("approach.params")])["approach_buffer"].value
     assert 0.0 < p.max_decel_x < 1.0 and 0.0 < p.max_decel_y < 1.0
     assert p.buffer == pytest.approx(file_mm / 1000.0) and 0.0 < p.buffer < 0.05  # mm -> m
+    assert ApproachParams() == p  # the dataclass's defaults are the shipped file's values
 
 
 def test_approach_is_ready_only_after_standing_still_in_the_box():
