@@ -39,6 +39,8 @@ from skills.params import PathLike, load_param_sets
 G = 9.80665
 FOOT_SEPARATION = 0.10  # m between the ankles at rest (UT's fixed value)
 STOP_JOG_TIME = 0.5  # s of jogging in place before standing still
+STAND_DAMP_TIME = 1.0  # s after a stop request that the ankles' gyro damping stays on ...
+STAND_DAMP_FADE = 0.5  # s ... before it has faded out (see `foot_targets`)
 BALANCE_SMOOTHING = 0.3  # weight of a new tilt/roll estimate in the balance terms' low-pass
 DATA = Path(__file__).parent / "data"
 
@@ -193,7 +195,7 @@ class WalkEngine:
         self.swing = "l"
         self.step = np.zeros(3)  # current step sizes x (m), y (m), theta (rad)
         self.walking = False
-        self.stop_time = STOP_JOG_TIME  # s since zero velocity was requested
+        self.stop_time = STAND_DAMP_TIME + STAND_DAMP_FADE  # s since zero velocity was requested (long ago)
         self.tilt = 0.0
         self.roll = 0.0
         self.step_factor = 1.0
@@ -296,6 +298,14 @@ class WalkEngine:
         sx, sy, sth = (0.0, 0.0, 0.0) if standing else (self.step[0], *self.latched)
         swing, stance = self.swing, ("r" if self.swing == "l" else "l")
         sign = {"l": 1.0, "r": -1.0}
+        # Gyro damping of the ankles: it steadies the steps and the sway after a stop,
+        # but standing on, the one-cycle-late feedback feeds the stance's own 7 Hz sway
+        # (body rate 11 -> 17-25 deg/s after a second; a keyframe kick started from it
+        # falls 5 times in 16 instead of once), so it fades out once the robot stands.
+        fade = 1.0
+        if standing:
+            fade = min(max((STAND_DAMP_TIME + STAND_DAMP_FADE - self.stop_time) / STAND_DAMP_FADE, 0.0), 1.0)
+        gyro_roll, gyro_pitch = fade * p.gyro_roll, fade * p.gyro_pitch
         # Lift: cosine during the in-air fraction.
         zfrac = 0.5 * (1 - math.cos(2 * math.pi * (t - fg) / fa)) if fg <= t <= fg + fa else 0.0
         # Forward: the stance foot slides back uniformly (the torso moves over it);
@@ -347,8 +357,8 @@ class WalkEngine:
         ):
             hip = self.hip[side]
             pos = np.array([hip[0] + xo + dx, sign[side] * (yo + out_y), hip[2] - p.walk_height + z])
-            rpy = np.array([p.pid_roll * self.roll + p.gyro_roll * self.gyro[0],
-                            p.pid_tilt * self.tilt + p.gyro_pitch * self.gyro[1], -sign[side] * yaw])
+            rpy = np.array([p.pid_roll * self.roll + gyro_roll * self.gyro[0],
+                            p.pid_tilt * self.tilt + gyro_pitch * self.gyro[1], -sign[side] * yaw])
             if side == swing and not standing:  # toes up stepping forward, down stepping back
                 rpy[1] += p.swing_ankle_offset * zfrac * (1.0 if sx >= 0 else -1.0)
             out[side] = (pos, rpy)
