@@ -1,17 +1,13 @@
-"""Shortest-augmenting-path Hungarian algorithm that also returns the duals.
+"""Shortest-augmenting-path Hungarian algorithm on lazily evaluated costs, with duals.
 
-`scipy.optimize.linear_sum_assignment` is used wherever only the matching is
-needed. This implementation exists for the cases it cannot serve:
-
-* exact integer costs of arbitrary size (Python ints in an object array), as
-  the 2^rank edge weights of the O(n^5) MMDR algorithm need;
-* lazily evaluated costs (`formations.pathcost`), where the exact cost of a
-  pair is computed only when the search is about to use that pair.
+The compiled `formations._lsap` serves plain cost matrices. This
+implementation exists for lazily evaluated costs (`formations.pathcost`),
+where the exact cost of a pair is computed only when the search is about to
+use that pair (a Python callback).
 
 The algorithm is the O(n^3) Kuhn-Munkres method in its shortest augmenting
 path form (one Dijkstra search per row, potentials kept feasible), with the
-inner loop vectorized over columns; exact integer problems up to
-`LIST_MAX_N` rows run the same steps on plain Python lists instead.
+inner loop vectorized over columns.
 """
 
 from __future__ import annotations
@@ -20,8 +16,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-
-LIST_MAX_N = 128  # exact integer costs up to this size: plain Python lists beat object arrays
 
 
 @dataclass
@@ -57,8 +51,6 @@ def hungarian(
     if cost.shape != (n, n):
         raise ValueError(f"cost must be square, got shape {cost.shape}")
     obj = cost.dtype == object
-    if obj and exact is None and n <= LIST_MAX_N:
-        return _hungarian_lists(cost.tolist())
     if obj:
         big = max((abs(int(x)) for x in cost.ravel()), default=0)
         inf = (big + 1) * (2 * n + 2) * 4
@@ -125,61 +117,3 @@ def hungarian(
     assignment = np.empty(n, dtype=np.int64)
     assignment[p[1:] - 1] = np.arange(n)
     return HungarianResult(assignment, u[1:], v[1:], evaluated)
-
-
-def _hungarian_lists(cost: list[list[int]]) -> HungarianResult:
-    """The same algorithm on Python lists of exact integers (small n).
-
-    Step for step as `hungarian` (first column of minimal reduced cost, strict
-    improvements only), so the result is identical; it only avoids the
-    per-call overhead of numpy object arrays. Two exact rewrites save big-int
-    operations: the columns still free are kept in a sorted list (no scan of
-    used ones), and instead of lowering every free column's path length by
-    each step's delta, lengths are stored shifted by the sum S of the deltas
-    so far (stored = length + S), which no step has to touch.
-    """
-    n = len(cost)
-    rows: list = [None] + [[0, *row] for row in cost]  # 1-based rows and columns
-    u = [0] * (n + 1)
-    v = [0] * (n + 1)
-    p = [0] * (n + 1)
-    way = [0] * (n + 1)
-    for i in range(1, n + 1):
-        p[0] = i
-        j0 = 0
-        shifted: list[int | None] = [None] * (n + 1)  # path length + S
-        free = list(range(1, n + 1))
-        used = [0]
-        total = 0  # S
-        while True:
-            i0 = p[j0]
-            row = rows[i0]
-            k = total - u[i0]
-            best = None
-            j1 = 0
-            for j in free:
-                cur = row[j] - v[j] + k
-                mj = shifted[j]
-                if mj is None or cur < mj:
-                    shifted[j] = mj = cur
-                    way[j] = j0
-                if best is None or mj < best:
-                    best = mj
-                    j1 = j
-            delta = best - total
-            for j in used:
-                u[p[j]] += delta
-                v[j] -= delta
-            total = best
-            free.remove(j1)
-            used.append(j1)
-            j0 = j1
-            if p[j0] == 0:
-                break
-        while j0:
-            j1 = way[j0]
-            p[j0] = p[j1]
-            j0 = j1
-    assignment = np.empty(n, dtype=np.int64)
-    assignment[np.array(p[1:], dtype=np.int64) - 1] = np.arange(n)
-    return HungarianResult(assignment, np.array(u[1:], dtype=object), np.array(v[1:], dtype=object))

@@ -9,8 +9,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.optimize import linear_sum_assignment
 
-from formations import scram
+from formations import _bigint, _kernels, _lsap, scram
+from formations import bottleneck as bn
 from formations.bottleneck import bottleneck
 
 EXACT_MMDR = ("mmdr", "mmdr-n5", "mmdr-dp", "brute-force")
@@ -114,7 +116,7 @@ def test_large_problems_consistent(n):
     agents = rng.integers(0, n * n, (n, 2)).astype(float)
     targets = rng.integers(0, n * n, (n, 2)).astype(float)
     cost = scram.distances(agents, targets)
-    value, match, _ = bottleneck(cost)
+    value, match = bottleneck(cost)
     assert cost[np.arange(n), match].max() == value
     mmdr = scram.assign(agents, targets, "mmdr")
     n5 = scram.assign(agents, targets, "mmdr-n5")
@@ -272,24 +274,21 @@ def test_deterministic_ties_and_edge_cases():
         scram.assign_costs(np.array([[np.nan]]))
 
 
-def test_edge_list_paths_against_brute_force(monkeypatch):
-    # Large problems use the sparse edge-list forms of MMDR and MMD+MSD^2;
+def test_sparse_paths_against_brute_force():
+    # Large problems use the sparse forms (candidate edges, heap searches);
     # run them on small problems too (ties included) to compare with brute force.
-    monkeypatch.setattr(scram, "SMALL_N", 0)
-    monkeypatch.setattr(scram, "MMDR_DENSE_N", 0)
-    monkeypatch.setattr(scram, "MMD_DENSE_N", 0)
     rng = np.random.default_rng(11)
     for _ in range(300):
         n = int(rng.integers(1, 7))
-        agents, targets = random_problem(rng, n)
-        cost = scram.distances(agents, targets)
+        cost = scram.distances(*random_problem(rng, n))
         ref = reference(cost)
-        a = scram.mmdr(cost)
-        np.testing.assert_array_equal(scram.cost_vector(cost, a), ref["lex"])
-        b = scram.mmd_msd2(cost)
+        b = _kernels.mmd_msd2(cost, 0)
         c = cost[np.arange(n), b]
         assert c.max() == ref["makespan"]
         assert (c * c).sum() <= ref["sumsq_at_makespan"] + 1e-9
+        value, match = bottleneck(cost)
+        assert value == ref["makespan"] == cost[np.arange(n), match].max()
+        np.testing.assert_array_equal(scram.cost_vector(cost, _kernels.mmdr(cost, 0)), ref["lex"])
 
 
 def test_many_ties_large_n():
@@ -307,61 +306,44 @@ def test_many_ties_large_n():
     )
 
 
-@pytest.mark.parametrize("n", [12, 20, 40])
-def test_dense_and_edge_list_mmdr_agree_at_medium_n(n, monkeypatch):
-    # The dense path (warm start, forced-level certificate, 0-1 steps on ties)
-    # against the edge-list path and the exact 2^rank Hungarian.
+@pytest.mark.parametrize("n", [12, 20, 40, 150])
+def test_mmdr_and_mmd_agree_at_medium_n(n):
+    # Sokkalingam-Aneja (forced levels and 0-1 steps on ties) against the
+    # exact 2^rank Hungarian; MMD+MSD^2's dense and sparse forms agree on value.
     rng = np.random.default_rng(100 + n)
     for _ in range(4):
-        side = 10 if rng.integers(2) else 40  # many ties, or few
-        k = rng.choice(side * side, 2 * n, replace=False)
+        side = n // 4 if rng.integers(2) else 4 * n  # many ties, or few
+        k = rng.choice(side * side, 2 * n, replace=2 * n > side * side)
         pts = np.stack([k // side, k % side], axis=1).astype(float)
-        agents, targets = pts[:n], pts[n:]
-        cost = scram.distances(agents, targets)
+        cost = scram.distances(pts[:n], pts[n:])
         ref = scram.cost_vector(cost, scram.mmdr_n5(cost))
         np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref)
-        mmd = scram.mmd_msd2(cost)
-        with monkeypatch.context() as m:
-            m.setattr(scram, "MMDR_DENSE_N", 0)  # dense Sokkalingam-Aneja only
-            np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref)
-            m.setattr(scram, "SMALL_N", 0)  # edge lists
-            m.setattr(scram, "MMD_DENSE_N", 0)
-            np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref)
-            np.testing.assert_array_equal(scram.mmd_msd2(cost), mmd)
+        dense, sparse = _kernels.mmd_msd2(cost, n), _kernels.mmd_msd2(cost, 0)
+        rows = np.arange(n)
+        assert cost[rows, dense].max() == cost[rows, sparse].max() == ref[0]
+        np.testing.assert_allclose(
+            (cost[rows, dense] ** 2).sum(), (cost[rows, sparse] ** 2).sum(), rtol=1e-12
+        )
 
 
-def test_integer_hungarian_list_path_matches_array_path(monkeypatch):
-    from formations import hungarian
-
-    rng = np.random.default_rng(13)
-    for n in (1, 3, 8, 15):
-        for _ in range(5):
-            side = 4 if rng.integers(2) else 50
-            cost = scram.distances(rng.integers(0, side, (n, 2)), rng.integers(0, side, (n, 2)))
-            weights = np.empty((n, n), dtype=object)
-            weights.ravel()[:] = [1 << int(r) for r in scram.rank_weights(cost).ravel()]
-            fast = hungarian.hungarian(weights.copy())
-            with monkeypatch.context() as m:
-                m.setattr(hungarian, "LIST_MAX_N", -1)
-                slow = hungarian.hungarian(weights.copy())
-            np.testing.assert_array_equal(fast.assignment, slow.assignment)
-            assert list(fast.u) == list(slow.u) and list(fast.v) == list(slow.v)
-
-
-def test_dense_bottleneck_against_brute_force():
-    # `_dense_bottleneck` (the MMD+MSD^2 fast path) on seeded random problems,
+def test_bottleneck_kernels_against_brute_force():
+    # Dense and candidate-edge bottlenecks on seeded random problems,
     # continuous and on small integer grids (many tied distances).
     rng = np.random.default_rng(14)
     for _ in range(400):
         n = int(rng.integers(1, 7))
         cost = scram.distances(*random_problem(rng, n))
-        assert scram._dense_bottleneck(cost) == reference(cost)["makespan"]
-    for n in (20, 60, 150):
-        for side in (n, 4 * n):
-            k = rng.choice(side * side, 2 * n, replace=False)
+        value, match = bn.bottleneck_dense(cost, np.full(n, -1, np.int64))
+        assert value == reference(cost)["makespan"] == cost[np.arange(n), match].max()
+    for n in (20, 60, 150, 400):
+        for side in (n // 4, 4 * n):
+            k = rng.choice(side * side, 2 * n, replace=2 * n > side * side)
             pts = np.stack([k // side, k % side], axis=1).astype(float)
             cost = scram.distances(pts[:n], pts[n:])
-            assert scram._dense_bottleneck(cost) == bottleneck(cost)[0]
+            value, match, indptr, _, weights = bn.bottleneck_large(cost)
+            assert value == bn.bottleneck_dense(cost, np.full(n, -1, np.int64))[0]
+            assert cost[np.arange(n), match].max() == value
+            assert np.count_nonzero(weights <= value) == np.count_nonzero(cost <= value)
 
 
 def test_distances_exact_on_integer_grids():
@@ -372,41 +354,6 @@ def test_distances_exact_on_integer_grids():
     assert d[0, 0] == d[0, 1] == d[0, 2] == 5.0
     assert d[2, 3] == 5.0
     np.testing.assert_allclose(d, np.hypot(a[:, None, 0] - t[None, :, 0], a[:, None, 1] - t[None, :, 1]))
-
-
-def test_flow_matching_and_warm_bottleneck(monkeypatch):
-    # The compiled max-flow matching (cold starts of large tests) against the
-    # numpy augmenting-path matching, and bottlenecks computed through it
-    # (sampled thresholds, warm starts from failed prefixes) against brute force.
-    from formations import bottleneck as bn
-
-    rng = np.random.default_rng(15)
-    for _ in range(50):
-        n = int(rng.integers(1, 40))
-        m = int(rng.integers(0, 4 * n))
-        rows, cols = rng.integers(0, n, m), rng.integers(0, n, m)
-        flat = np.unique(rows * n + cols)
-        rows, cols = flat // n, flat % n
-        a = bn.flow_matching(n, rows, cols)
-        b = bn.max_matching(n, rows, cols)
-        assert np.count_nonzero(a >= 0) == np.count_nonzero(b >= 0)
-        ok = a >= 0
-        assert np.unique(a[ok]).size == ok.sum()
-        assert np.isin(np.flatnonzero(ok) * n + a[ok], flat).all()
-    monkeypatch.setattr(bn, "FLOW_MIN_EDGES", 0)
-    for _ in range(200):
-        n = int(rng.integers(1, 7))
-        cost = scram.distances(*random_problem(rng, n))
-        assert bn.bottleneck(cost)[0] == reference(cost)["makespan"]
-    for n in (70, 130):
-        for side in (n // 4, 4 * n):
-            k = rng.choice(side * side, 2 * n, replace=n > side * side // 2)
-            pts = np.stack([k // side, k % side], axis=1).astype(float)
-            cost = scram.distances(pts[:n], pts[n:])
-            value, match, edges = bn.bottleneck(cost)
-            assert value == scram._dense_bottleneck(cost)
-            assert cost[np.arange(n), match].max() == value
-            assert edges.keys.size == np.count_nonzero(cost <= value)
 
 
 def test_brute_force_tie_order():
@@ -422,27 +369,120 @@ def test_brute_force_tie_order():
         np.testing.assert_array_equal(scram.mmdr_brute_force(cost), perms[first])
 
 
-def test_reachability_level_test_and_matching_certificate(monkeypatch):
-    # `_forced_prefix` by reachability (CYCLE_N) and `_dense_bottleneck`'s
-    # augmenting-path certificate (CERTIFY_N) on every size, against brute
-    # force (ties included) and against the min-sum forms at medium n.
-    rng = np.random.default_rng(17)
-    problems = [scram.distances(*random_problem(rng, int(rng.integers(1, 7)))) for _ in range(300)]
-    medium = []
-    for n in (12, 30, 60):
-        for side in (12, 40):
-            k = rng.choice(side * side, 2 * n, replace=False)
-            pts = np.stack([k // side, k % side], axis=1).astype(float)
-            medium.append(scram.distances(pts[:n], pts[n:]))
-    with monkeypatch.context() as m:
-        m.setattr(scram, "CERTIFY_N", 10**9)  # min-sum certificates only
-        slow = [(scram.cost_vector(c, scram.mmdr_n5(c)), scram.mmd_msd2(c)) for c in medium]
-    monkeypatch.setattr(scram, "CYCLE_N", 0)
-    monkeypatch.setattr(scram, "CERTIFY_N", 0)
-    for cost in problems:
-        ref = reference(cost)
-        np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), ref["lex"])
-        assert scram._dense_bottleneck(cost) == ref["makespan"]
-    for cost, (vec, mmd) in zip(medium, slow):
-        np.testing.assert_array_equal(scram.cost_vector(cost, scram.mmdr(cost)), vec)
-        np.testing.assert_array_equal(scram.mmd_msd2(cost), mmd)
+costs_matrix = st.integers(1, 9).flatmap(
+    lambda n: st.lists(
+        st.lists(st.sampled_from([0.0, 1.0, 2.0, 2.5, 3.0, np.inf]), min_size=n, max_size=n),
+        min_size=n,
+        max_size=n,
+    )
+)
+
+
+@settings(max_examples=300, deadline=None, derandomize=True, database=None)
+@given(costs_matrix)
+def test_compiled_lsap_is_scipys_algorithm(rows):
+    # `lsap_dense` returns scipy's assignment (ties included) and optimal
+    # duals; `lsap_sparse` an assignment of the same cost; both report
+    # infeasibility (inf = forbidden pair).
+    cost = np.array(rows, dtype=float)
+    n = len(cost)
+    col4row, u, v = _lsap.lsap_dense(cost)
+    finite = np.isfinite(cost)
+    r, c = np.nonzero(finite)
+    indptr = np.searchsorted(r, np.arange(n + 1))
+    sparse = _lsap.lsap_sparse(n, indptr, c.astype(np.int64), cost[r, c])[0]
+    try:
+        ref = linear_sum_assignment(cost)[1]
+    except ValueError:
+        assert col4row[0] == -2 and sparse[0] == -2
+        return
+    np.testing.assert_array_equal(col4row, ref)
+    reduced = cost - u[:, None] - v[None, :]
+    assert (reduced[finite] >= -1e-9).all()
+    np.testing.assert_allclose(reduced[np.arange(n), col4row], 0.0, atol=1e-9)
+    assert sorted(sparse.tolist()) == list(range(n))
+    assert cost[np.arange(n), sparse].sum() == cost[np.arange(n), ref].sum()
+
+
+def test_scipy_identical_min_sum_on_grid_squares():
+    # The min-sum steps (msd, msd2, mmd-msd2 up to LSAP_DENSE_N) match scipy's
+    # linear_sum_assignment on the same matrices, rounding of squares included.
+    rng = np.random.default_rng(18)
+    for _ in range(300):
+        n = int(rng.integers(2, 10))  # random_problem's 3 x 3 grid holds 9 points
+        agents, targets = random_problem(rng, n)
+        cost = scram.distances(agents, targets)
+        for method, matrix in (("msd", cost), ("msd2", cost * cost)):
+            np.testing.assert_array_equal(
+                scram.assign(agents, targets, method), linear_sum_assignment(matrix)[1]
+            )
+        value = bottleneck(cost)[0]
+        expected = linear_sum_assignment(np.where(cost <= value, cost * cost, np.inf))[1]
+        np.testing.assert_array_equal(scram.assign(agents, targets, "mmd-msd2"), expected)
+
+
+def test_inputs_any_layout_and_bad_inputs():
+    rng = np.random.default_rng(19)
+    agents, targets = rng.uniform(0, 10, (6, 2)), rng.uniform(0, 10, (6, 2))
+    ref = {m: scram.assign(agents, targets, m) for m in scram.METHODS}
+    wide = np.hstack([agents, np.zeros((6, 1))])[:, :2]  # a non-contiguous view
+    frozen = targets.copy()
+    frozen.flags.writeable = False
+    for m in scram.METHODS:
+        np.testing.assert_array_equal(scram.assign(wide, frozen, m), ref[m])
+        np.testing.assert_array_equal(scram.assign(agents.tolist(), targets.tolist(), m), ref[m])
+    cost = scram.distances(agents, targets)
+    np.testing.assert_array_equal(scram.assign_costs(cost.T.copy().T, "mmdr"), ref["mmdr"])
+    for bad in ([1.0, 2.0], np.zeros((3, 1)), np.zeros((2, 2, 2))):
+        with pytest.raises(ValueError):
+            scram.assign(bad, bad)
+    with pytest.raises(ValueError, match="finite"):
+        scram.assign([[0.0, np.inf]], [[0.0, 0.0]])
+    with pytest.raises(ValueError, match="square"):
+        scram.assign_costs(np.zeros((2, 3)))
+    with pytest.raises(ValueError, match="square"):
+        scram.assign_costs(np.float64(1.0))
+    with pytest.raises(ValueError, match="limited"):
+        scram.assign_costs(np.zeros((DP_N := scram.DP_MAX_N + 1, DP_N)), "mmdr-dp")
+
+
+def test_kernels_compile_in_memory_without_a_cache_location(monkeypatch):
+    # A read-only install without a writable home: numba cannot cache, so
+    # the kernels are compiled in memory (one warning), not an import error.
+    import numba
+
+    from formations import _jit
+
+    real = numba.njit
+
+    def no_locator(*args, **kwargs):
+        if kwargs.get("cache"):
+            raise RuntimeError("cannot cache function 'f': no locator available for file 'f.py'")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(_jit.numba, "njit", no_locator)
+    monkeypatch.setattr(_jit, "_warned", False)
+    with pytest.warns(RuntimeWarning, match="not cached"):
+        double = _jit.njit(lambda x: 2 * x)
+    assert double(21) == 42
+
+
+@settings(max_examples=150, deadline=None, derandomize=True, database=None)
+@given(st.data())
+def test_hypothesis_sparse_and_multiword_kernels(data):
+    # The forms large problems take (candidate edges, heap searches, sparse
+    # min-sum, multiword 2^rank Hungarian) on small grid problems with ties.
+    agents = np.array(data.draw(points), float)
+    n = len(agents)
+    targets = np.array(data.draw(st.permutations(range(81)))[:n], float)
+    targets = np.stack([targets // 9 - 4, targets % 9 - 4], axis=1)
+    cost = scram.distances(agents, targets)
+    ref = reference(cost)
+    rows = np.arange(n)
+    assert bn.bottleneck_large(cost)[0] == ref["makespan"]
+    np.testing.assert_array_equal(scram.cost_vector(cost, _kernels.mmdr(cost, 0)), ref["lex"])
+    exact = _bigint.hungarian_pow2(_kernels.rank_weights(cost), n * n)
+    np.testing.assert_array_equal(scram.cost_vector(cost, exact), ref["lex"])
+    mmd = cost[rows, _kernels.mmd_msd2(cost, 0)]
+    assert mmd.max() == ref["makespan"]
+    assert (mmd * mmd).sum() <= ref["sumsq_at_makespan"] + 1e-9

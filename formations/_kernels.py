@@ -1,0 +1,398 @@
+"""Compiled SCRAM assignment algorithms (numba), built on `_lsap` and `bottleneck`.
+
+The methods take a finite dense (n, n) float cost matrix, n >= 1; the
+`*_points` forms take (n, 2) agents and targets and compute the distances
+in the same compiled call.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from formations._bigint import mmdr_n5
+from formations._jit import njit
+from formations._lsap import lsap_dense, lsap_sparse
+from formations.bottleneck import bottleneck_dense, bottleneck_large, bottleneck_sparse, candidate_edges
+
+INF = np.inf
+LSAP_DENSE_N = 16  # MMD+MSD^2's min-sum step is dense (scipy's result) up to this size, then sparse
+
+
+@njit
+def distances(agents: np.ndarray, targets: np.ndarray) -> tuple[np.ndarray, bool]:
+    """(n, m) Euclidean distances of (n, 2) and (m, 2) points, and whether all are finite.
+
+    sqrt(dx^2 + dy^2) is correctly rounded, so points on an integer grid at
+    equal distances get exactly equal costs; `math.hypot` takes over where
+    the squares overflow (coordinates beyond 1e154).
+    """
+    n = agents.shape[0]
+    m = targets.shape[0]
+    out = np.empty((n, m))
+    finite = True
+    for i in range(n):
+        ax = agents[i, 0]
+        ay = agents[i, 1]
+        for j in range(m):
+            dx = ax - targets[j, 0]
+            dy = ay - targets[j, 1]
+            d = math.sqrt(dx * dx + dy * dy)
+            if not d < INF:
+                d = math.hypot(dx, dy)
+                finite = finite and d < INF
+            out[i, j] = d
+    return out, finite
+
+
+@njit
+def all_finite(cost: np.ndarray) -> bool:
+    """No inf or nan in `cost`."""
+    for x in cost.ravel():
+        if not math.isfinite(x):
+            return False
+    return True
+
+
+@njit
+def mmd_msd2(cost: np.ndarray, dense_max: int) -> np.ndarray:
+    """MMD+MSD^2: bottleneck b, then min sum of cost^2 over the edges <= b.
+
+    The bottleneck is `bottleneck_dense` up to `dense_max` rows, else
+    `bottleneck_large`. The min-sum step is `lsap_dense` on the full matrix
+    up to `LSAP_DENSE_N` rows (the same result as scipy's
+    `linear_sum_assignment`), beyond it `lsap_sparse` on the edges <= b.
+    """
+    n = cost.shape[0]
+    if n <= dense_max:
+        b, _ = bottleneck_dense(cost, np.full(n, -1, np.int64))
+        if n <= LSAP_DENSE_N:
+            sq = np.empty((n, n))
+            for i in range(n):
+                for j in range(n):
+                    c = cost[i, j]
+                    sq[i, j] = c * c if c <= b else INF
+            return lsap_dense(sq)[0]
+        indptr, indices, weights = candidate_edges(cost, b)
+    else:
+        b, _, indptr, indices, weights = bottleneck_large(cost)
+    keep = np.zeros(n + 1, np.int64)
+    count = 0
+    for i in range(n):
+        for e in range(indptr[i], indptr[i + 1]):
+            if weights[e] <= b:
+                indices[count] = indices[e]
+                weights[count] = weights[e] * weights[e]
+                count += 1
+        keep[i + 1] = count
+    return lsap_sparse(n, keep, indices[:count], weights[:count])[0]
+
+
+@njit
+def _local_csr(er, ec, key, ne, lr, lc, m):
+    """CSR over local indices (lr, lc) of the first `ne` edges (grouped by increasing row)."""
+    indptr = np.zeros(m + 1, np.int64)
+    indices = np.empty(ne, np.int64)
+    w = np.empty(ne)
+    for e in range(ne):
+        indptr[lr[er[e]] + 1] += 1
+        indices[e] = lc[ec[e]]
+        w[e] = key[e]
+    for i in range(m):
+        indptr[i + 1] += indptr[i]
+    return indptr, indices, w
+
+
+@njit
+def mmdr(cost: np.ndarray, dense_max: int) -> np.ndarray:
+    """MMDR by Sokkalingam and Aneja's algorithm on edge lists (dissertation Alg. 2).
+
+    Level by level from the top: b is the bottleneck of the remaining edges
+    (settled edges always allowed); longer edges are dropped. If a single
+    unsettled edge has cost b it is forced (every remaining perfect matching
+    uses it): its row and column leave the problem. Otherwise a 0-1
+    min-cost matching (cost 1 on the edges of cost b) counts how many of them
+    every optimal mapping needs; only edges tight under its optimal duals
+    stay, and those of cost b become settled. Edges are kept grouped by row.
+    The first bottleneck is `bottleneck_dense` up to `dense_max` rows, else
+    `bottleneck_large`.
+    """
+    n = cost.shape[0]
+    out = np.full(n, -1, np.int64)
+    if n <= dense_max:
+        b, match = bottleneck_dense(cost, np.full(n, -1, np.int64))
+        indptr, cols, costs = candidate_edges(cost, b)
+    else:
+        b, match, indptr, cols, costs = bottleneck_large(cost)
+    ne = 0
+    er = np.empty(cols.size, np.int64)
+    ec = np.empty(cols.size, np.int64)
+    ew = np.empty(cols.size)
+    for i in range(n):
+        for e in range(indptr[i], indptr[i + 1]):
+            if costs[e] <= b:
+                er[ne] = i
+                ec[ne] = cols[e]
+                ew[ne] = costs[e]
+                ne += 1
+    fixed = np.zeros(ne, np.bool_)
+    key = np.empty(ne)
+    lr = np.empty(n, np.int64)  # local index of each active row (-1: settled)
+    lc = np.empty(n, np.int64)
+    rowmin = np.empty(n)
+    colmin = np.empty(n)
+    act_r = np.arange(n)  # active rows (global), in increasing order
+    act_c = np.arange(n)
+    m = n
+    left = n
+    first = True
+    while True:
+        if not first:
+            # Lower bound (largest row or column minimum, settled edges -1)
+            # and the longest unsettled edge of the current matching: if they
+            # meet, that is the bottleneck and no search is needed.
+            rowmin[:] = INF
+            colmin[:] = INF
+            top = -INF
+            for e in range(ne):
+                k_e = -1.0 if fixed[e] else ew[e]
+                key[e] = k_e
+                r = er[e]
+                c = ec[e]
+                if k_e < rowmin[r]:
+                    rowmin[r] = k_e
+                if k_e < colmin[c]:
+                    colmin[c] = k_e
+                if match[r] == c and k_e > top:
+                    top = k_e
+            lower = -INF
+            for q in range(m):
+                lower = max(lower, rowmin[act_r[q]], colmin[act_c[q]])
+            if top <= lower:
+                b = top
+            else:
+                lr[:] = -1
+                lc[:] = -1
+                for q in range(m):
+                    lr[act_r[q]] = q
+                    lc[act_c[q]] = q
+                ip, ix, w = _local_csr(er, ec, key, ne, lr, lc, m)
+                init = np.empty(m, np.int64)
+                for q in range(m):
+                    init[q] = lc[match[act_r[q]]]
+                b, lm = bottleneck_sparse(m, ip, ix, w, lower, init)
+                for q in range(m):
+                    match[act_r[q]] = act_c[lm[q]]
+        first = False
+        # Drop unsettled edges longer than b; count those of cost b.
+        level = 0
+        last = -1
+        k = 0
+        for e in range(ne):
+            if fixed[e] or ew[e] <= b:
+                er[k] = er[e]
+                ec[k] = ec[e]
+                ew[k] = ew[e]
+                fixed[k] = fixed[e]
+                if not fixed[k] and ew[k] == b:
+                    level += 1
+                    last = k
+                k += 1
+        ne = k
+        if level == 1:
+            r = er[last]
+            c = ec[last]
+            out[r] = c
+            left -= 1
+            if left == 0:
+                break
+            k = 0
+            for e in range(ne):
+                if er[e] != r and ec[e] != c:
+                    er[k] = er[e]
+                    ec[k] = ec[e]
+                    ew[k] = ew[e]
+                    fixed[k] = fixed[e]
+                    k += 1
+            ne = k
+            k = 0
+            for q in range(m):
+                if act_r[q] != r:
+                    act_r[k] = act_r[q]
+                    k += 1
+            k = 0
+            for q in range(m):
+                if act_c[q] != c:
+                    act_c[k] = act_c[q]
+                    k += 1
+            m -= 1
+            continue
+        # 0-1 step on the active problem.
+        lr[:] = -1
+        lc[:] = -1
+        for q in range(m):
+            lr[act_r[q]] = q
+            lc[act_c[q]] = q
+        for e in range(ne):
+            key[e] = 1.0 if (not fixed[e] and ew[e] == b) else 0.0
+        ip, ix, w = _local_csr(er, ec, key, ne, lr, lc, m)
+        lm, u, v = lsap_sparse(m, ip, ix, w)
+        ones = 0
+        for q in range(m):
+            match[act_r[q]] = act_c[lm[q]]
+            for e in range(ip[q], ip[q + 1]):
+                if ix[e] == lm[q]:
+                    ones += int(w[e])
+                    break
+        left -= ones
+        if left == 0:
+            break
+        k = 0
+        for e in range(ne):
+            if key[e] - u[lr[er[e]]] - v[lc[ec[e]]] == 0.0:
+                er[k] = er[e]
+                ec[k] = ec[e]
+                ew[k] = ew[e]
+                fixed[k] = fixed[e] or key[e] == 1.0
+                k += 1
+        ne = k
+    for q in range(m):
+        r = act_r[q]
+        if out[r] < 0:
+            out[r] = match[r]
+    return out
+
+
+@njit
+def rank_weights(cost: np.ndarray) -> np.ndarray:
+    """Algorithm 1 ranks: index in the stably sorted edge list of the first equal edge."""
+    flat = cost.ravel()
+    order = np.argsort(flat, kind="mergesort")
+    ranks = np.empty(flat.size, np.int64)
+    start = 0
+    for k in range(flat.size):
+        if k > 0 and flat[order[k]] != flat[order[k - 1]]:
+            start = k
+        ranks[order[k]] = start
+    return ranks.reshape(cost.shape)
+
+
+@njit
+def _add_power(x: np.ndarray, r: int) -> None:
+    """x += 2^r on a little-endian multiword unsigned integer."""
+    q = r >> 6
+    bit = np.uint64(1) << np.uint64(r & 63)
+    old = x[q]
+    x[q] = old + bit
+    if x[q] < old:
+        q += 1
+        while q < x.size:
+            x[q] += np.uint64(1)
+            if x[q] != 0:
+                break
+            q += 1
+
+
+@njit
+def _less(a: np.ndarray, b: np.ndarray) -> bool:
+    """a < b for multiword unsigned integers."""
+    for q in range(a.size - 1, -1, -1):
+        if a[q] != b[q]:
+            return a[q] < b[q]
+    return False
+
+
+@njit
+def mmdr_dp(cost: np.ndarray) -> np.ndarray:
+    """MMDR by the dynamic program of Appendix C (n 2^(n-1) transitions).
+
+    key[S] is the least sum of 2^rank (Algorithm 1 ranks, exact multiword
+    integers) over mappings of agent set S to targets 0..|S|-1; last[S] is
+    the agent given target |S|-1 (ties to the lowest agent index).
+    """
+    n = cost.shape[0]
+    rank = rank_weights(cost)
+    words = (n * n + 8) // 64 + 1
+    size = 1 << n
+    keys = np.zeros((size, words), np.uint64)
+    last = np.zeros(size, np.int8)
+    count = np.zeros(size, np.int64)
+    tmp = np.empty(words, np.uint64)
+    for s in range(1, size):
+        count[s] = count[s >> 1] + (s & 1)
+        k = count[s] - 1
+        have = False
+        for a in range(n):
+            if not (s >> a) & 1:
+                continue
+            tmp[:] = keys[s ^ (1 << a)]
+            _add_power(tmp, rank[a, k])
+            if not have or _less(tmp, keys[s]):
+                keys[s] = tmp
+                last[s] = a
+                have = True
+    out = np.empty(n, np.int64)
+    s = size - 1
+    for k in range(n - 1, -1, -1):
+        a = last[s]
+        out[a] = k
+        s &= ~(1 << a)
+    return out
+
+
+@njit
+def msd(cost: np.ndarray) -> np.ndarray:
+    """Minimum sum of costs (scipy's `linear_sum_assignment` result)."""
+    return lsap_dense(cost)[0]
+
+
+@njit
+def msd2(cost: np.ndarray) -> np.ndarray:
+    """Minimum sum of squared costs (scipy's `linear_sum_assignment` result on cost^2)."""
+    return lsap_dense(cost * cost)[0]
+
+
+# One compiled call from points to assignment (no second dispatch at small n):
+# each returns [-2, ...] if a distance is not finite.
+
+
+@njit
+def _not_finite(n: int) -> np.ndarray:
+    return np.full(n, -2, np.int64)
+
+
+@njit
+def mmdr_points(agents: np.ndarray, targets: np.ndarray, dense_max: int) -> np.ndarray:
+    cost, finite = distances(agents, targets)
+    return mmdr(cost, dense_max) if finite else _not_finite(agents.shape[0])
+
+
+@njit
+def mmd_msd2_points(agents: np.ndarray, targets: np.ndarray, dense_max: int) -> np.ndarray:
+    cost, finite = distances(agents, targets)
+    return mmd_msd2(cost, dense_max) if finite else _not_finite(agents.shape[0])
+
+
+@njit
+def mmdr_n5_points(agents: np.ndarray, targets: np.ndarray, dense_max: int) -> np.ndarray:
+    cost, finite = distances(agents, targets)
+    return mmdr_n5(cost, dense_max) if finite else _not_finite(agents.shape[0])
+
+
+@njit
+def mmdr_dp_points(agents: np.ndarray, targets: np.ndarray, dense_max: int) -> np.ndarray:
+    cost, finite = distances(agents, targets)
+    return mmdr_dp(cost) if finite else _not_finite(agents.shape[0])
+
+
+@njit
+def msd_points(agents: np.ndarray, targets: np.ndarray, dense_max: int) -> np.ndarray:
+    cost, finite = distances(agents, targets)
+    return msd(cost) if finite else _not_finite(agents.shape[0])
+
+
+@njit
+def msd2_points(agents: np.ndarray, targets: np.ndarray, dense_max: int) -> np.ndarray:
+    cost, finite = distances(agents, targets)
+    return msd2(cost) if finite else _not_finite(agents.shape[0])
