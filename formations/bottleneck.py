@@ -26,6 +26,19 @@ INF = np.inf
 
 
 @njit
+def _flip(parent, col4row, row4col, c, r) -> None:
+    """Flips the augmenting path that ends at free column c back to its free row r."""
+    while True:
+        i = parent[c]
+        old = col4row[i]
+        col4row[i] = c
+        row4col[c] = i
+        if i == r:
+            return
+        c = old
+
+
+@njit
 def _augment_at(w, t, col4row, row4col, r, parent, seen, stack_r, stack_j) -> bool:
     """Augmenting path from free row r over edges w <= t (iterative DFS, dense scan)."""
     n = w.shape[0]
@@ -50,15 +63,8 @@ def _augment_at(w, t, col4row, row4col, r, parent, seen, stack_r, stack_j) -> bo
         parent[found] = i
         nxt = row4col[found]
         if nxt < 0:
-            c = found
-            while True:
-                i = parent[c]
-                old = col4row[i]
-                col4row[i] = c
-                row4col[c] = i
-                if i == r:
-                    return True
-                c = old
+            _flip(parent, col4row, row4col, found, r)
+            return True
         top += 1
         stack_r[top] = nxt
         stack_j[top] = 0
@@ -97,15 +103,8 @@ def _minimax_augment(w, col4row, row4col, r, key, parent, done) -> float:
             return INF
         done[bj] = True
         if row4col[bj] < 0:
-            c = bj
-            while True:
-                i = parent[c]
-                old = col4row[i]
-                col4row[i] = c
-                row4col[c] = i
-                if i == r:
-                    return best
-                c = old
+            _flip(parent, col4row, row4col, bj, r)
+            return best
         i = row4col[bj]
         ki = best
 
@@ -196,15 +195,8 @@ def _sparse_augment_at(indptr, indices, w, t, col4row, row4col, r, parent, seen,
         parent[found] = i
         nxt = row4col[found]
         if nxt < 0:
-            c = found
-            while True:
-                i = parent[c]
-                old = col4row[i]
-                col4row[i] = c
-                row4col[c] = i
-                if i == r:
-                    return True
-                c = old
+            _flip(parent, col4row, row4col, found, r)
+            return True
         top += 1
         stack_r[top] = nxt
         stack_e[top] = indptr[nxt]
@@ -249,15 +241,7 @@ def _sparse_minimax_augment(
         done[bj] = True
         if row4col[bj] < 0:
             result = key[bj]
-            c = bj
-            while True:
-                i = parent[c]
-                old = col4row[i]
-                col4row[i] = c
-                row4col[c] = i
-                if i == r:
-                    break
-                c = old
+            _flip(parent, col4row, row4col, bj, r)
             break
         i = row4col[bj]
         ki = key[bj]
