@@ -68,3 +68,20 @@ def test_turns_90_degrees_in_place():
                 bad.append((stand, math.degrees(goal), math.degrees(h), x, y))
     assert falls <= 1
     assert not bad  # truth within 20 deg of odometry's goal, within 0.3 m of the start
+
+
+@pytest.mark.parametrize("walk_first", [False, True])
+def test_a_standing_robot_stays_still(walk_first):
+    # The ankles' gyro damping, one cycle late, fed the stance's own 7 Hz sway: standing,
+    # the body rate grew to 17-25 deg/s within a second. It now fades out once the robot
+    # has stood a second; from then on the stand must stay calm (about 11 deg/s).
+    tr, mo = new_robot(0)
+    rates = []
+    for k in range(round(5.0 / 0.02)):
+        pc = tr.percepts()[0]
+        walking = walk_first and k < round(2.0 / 0.02)  # walk 2 s, then stand
+        tr.step({0: Action(mo.walk_step(pc, 0.6 if walking else 0.0, 0.0, 0.0))})
+        rates.append(np.linalg.norm(pc.gyro))
+        assert tr.world.torso_up()[0] > 0.5
+    calm = np.degrees(np.mean(rates[-50:]))  # the last second, two seconds after any stop
+    assert calm < 15.0, calm
