@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from formations._jit import njit
-from formations._lsap import lsap_dense
+from formations._lsap import flip_path, lsap_dense
 from formations.bottleneck import bottleneck_dense, bottleneck_large
 
 ONE = np.uint64(1)
@@ -189,13 +189,5 @@ def hungarian_pow2(rank: np.ndarray, edges: int) -> np.ndarray:
             if sc[c]:
                 _sub(min_val, spc[c], r)
                 _sub(v[c], r, v[c])
-        j = sink
-        while True:
-            q = path[j]
-            row4col[j] = q
-            old = col4row[q]
-            col4row[q] = j
-            j = old
-            if q == cur:
-                break
+        flip_path(path, col4row, row4col, sink, cur)
     return col4row

@@ -20,6 +20,20 @@ INF = np.inf
 
 
 @njit
+def flip_path(path, col4row, row4col, c, r) -> None:
+    """Augments the matching along the alternating path that ends at free column c and
+    starts at free row r (path[j]: the row the search reached column j from)."""
+    while True:
+        i = path[c]
+        old = col4row[i]
+        col4row[i] = c
+        row4col[c] = i
+        if i == r:
+            return
+        c = old
+
+
+@njit
 def lsap_dense(cost: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Min-sum perfect matching of a square float matrix (inf = forbidden).
 
@@ -81,15 +95,7 @@ def lsap_dense(cost: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         for c in range(n):
             if sc[c]:
                 v[c] -= min_val - spc[c]
-        j = sink
-        while True:
-            r = path[j]
-            row4col[j] = r
-            old = col4row[r]
-            col4row[r] = j
-            j = old
-            if r == cur:
-                break
+        flip_path(path, col4row, row4col, sink, cur)
     return col4row, u, v
 
 
@@ -228,15 +234,7 @@ def lsap_sparse(
             c = touched[k]
             if done[c]:
                 v[c] -= min_val - dist[c]
-        j = sink
-        while True:
-            r = path[j]
-            row4col[j] = r
-            old = col4row[r]
-            col4row[r] = j
-            j = old
-            if r == cur:
-                break
+        flip_path(path, col4row, row4col, sink, cur)
         for k in range(nt):
             c = touched[k]
             dist[c] = INF

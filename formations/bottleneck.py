@@ -20,22 +20,9 @@ from __future__ import annotations
 import numpy as np
 
 from formations._jit import njit
-from formations._lsap import _heap_pop, _heap_push
+from formations._lsap import _heap_pop, _heap_push, flip_path
 
 INF = np.inf
-
-
-@njit
-def _flip(parent, col4row, row4col, c, r) -> None:
-    """Flips the augmenting path that ends at free column c back to its free row r."""
-    while True:
-        i = parent[c]
-        old = col4row[i]
-        col4row[i] = c
-        row4col[c] = i
-        if i == r:
-            return
-        c = old
 
 
 @njit
@@ -63,7 +50,7 @@ def _augment_at(w, t, col4row, row4col, r, parent, seen, stack_r, stack_j) -> bo
         parent[found] = i
         nxt = row4col[found]
         if nxt < 0:
-            _flip(parent, col4row, row4col, found, r)
+            flip_path(parent, col4row, row4col, found, r)
             return True
         top += 1
         stack_r[top] = nxt
@@ -103,7 +90,7 @@ def _minimax_augment(w, col4row, row4col, r, key, parent, done) -> float:
             return INF
         done[bj] = True
         if row4col[bj] < 0:
-            _flip(parent, col4row, row4col, bj, r)
+            flip_path(parent, col4row, row4col, bj, r)
             return best
         i = row4col[bj]
         ki = best
@@ -195,7 +182,7 @@ def _sparse_augment_at(indptr, indices, w, t, col4row, row4col, r, parent, seen,
         parent[found] = i
         nxt = row4col[found]
         if nxt < 0:
-            _flip(parent, col4row, row4col, found, r)
+            flip_path(parent, col4row, row4col, found, r)
             return True
         top += 1
         stack_r[top] = nxt
@@ -241,7 +228,7 @@ def _sparse_minimax_augment(
         done[bj] = True
         if row4col[bj] < 0:
             result = key[bj]
-            _flip(parent, col4row, row4col, bj, r)
+            flip_path(parent, col4row, row4col, bj, r)
             break
         i = row4col[bj]
         ki = key[bj]
