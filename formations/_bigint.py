@@ -7,9 +7,12 @@ such weights need about one bit per edge: they are kept as fixed-width two's
 complement integers, `words` little-endian uint64 each, and the Hungarian
 algorithm (`_lsap.lsap_dense`'s shortest augmenting paths) runs on them
 exactly. Edges longer than the bottleneck are dropped first (no MMDR mapping
-uses them), which shortens the integers to the number of remaining edges;
-if that is at most about 50, float64 holds every value exactly and the
-compiled float Hungarian (`lsap_dense`) runs instead.
+uses them), and for n <= 64 so are the edges under it that lie in no
+perfect matching of that graph; ranks count only the edges kept, which
+shortens the integers to their number. If that is at most about 50,
+float64 holds every value exactly and the compiled float Hungarian
+(`lsap_dense`) runs instead: at n = 10 on the 100 x 100 grid, 95% of
+problems (74% before the matching test).
 """
 
 from __future__ import annotations
@@ -83,6 +86,69 @@ def _less(a, b) -> bool:
 
 
 @njit
+def _ranks(value: np.ndarray, edge: np.ndarray, rank: np.ndarray) -> None:
+    """rank[edge[q]] = how many of `value` are < value[q] (Algorithm 1's rank).
+
+    Short lists count directly: a branch-free O(k^2) loop beats sorting
+    when the problems differ from call to call (no learnt branches).
+    """
+    k = value.size
+    if k > 128:
+        order = np.argsort(value, kind="mergesort")
+        start = 0
+        for q in range(k):
+            if q > 0 and value[order[q]] != value[order[q - 1]]:
+                start = q
+            rank[edge[order[q]]] = start
+        return
+    for q in range(k):
+        x = value[q]
+        c = 0
+        for p in range(k):
+            c += value[p] < x
+        rank[edge[q]] = c
+
+
+@njit
+def _matchable_edges(
+    cost: np.ndarray, b: float, match: np.ndarray, edge: np.ndarray, value: np.ndarray
+) -> int:
+    """The edges <= b that lie in some perfect matching of that graph, n <= 64.
+
+    `match` is one perfect matching (column of each row). Edge (i, j) is in
+    another one iff it closes an alternating cycle: the row matched to j
+    reaches row i, where row r -> row s whenever r has an edge to s's
+    column. Reachability is a bitset closure. Writes the flat indices and
+    costs to `edge` and `value`; returns how many.
+    """
+    n = cost.shape[0]
+    row4col = np.empty(n, np.int64)
+    for i in range(n):
+        row4col[match[i]] = i
+    reach = np.zeros(n, np.uint64)
+    for i in range(n):
+        bits = np.uint64(0)
+        for j in range(n):
+            if cost[i, j] <= b:
+                bits |= ONE << np.uint64(row4col[j])
+        reach[i] = bits
+    for m in range(n):
+        via = reach[m]
+        for i in range(n):
+            hit = (reach[i] >> np.uint64(m)) & ONE
+            reach[i] |= via & (np.uint64(0) - hit)
+    k = 0
+    for i in range(n):
+        for j in range(n):
+            c = cost[i, j]
+            if c <= b and ((reach[row4col[j]] >> np.uint64(i)) & ONE) != 0:
+                edge[k] = i * n + j
+                value[k] = c
+                k += 1
+    return k
+
+
+@njit
 def mmdr_n5(cost: np.ndarray, dense_max: int) -> np.ndarray:
     """MMDR by the Hungarian algorithm on exact weights 2^rank (Alg. 1), edges <= the bottleneck.
 
@@ -91,29 +157,34 @@ def mmdr_n5(cost: np.ndarray, dense_max: int) -> np.ndarray:
     """
     n = cost.shape[0]
     if n <= dense_max:
-        b, _ = bottleneck_dense(cost, np.full(n, -1, np.int64))
+        b, match = bottleneck_dense(cost, np.full(n, -1, np.int64))
     else:
-        b = bottleneck_large(cost)[0]
+        b, match = bottleneck_large(cost)[:2]
     flat = cost.ravel()
-    keep = np.flatnonzero(flat <= b)
-    order = keep[np.argsort(flat[keep], kind="mergesort")]
     rank = np.full(n * n, -1, np.int64)  # -1: dropped edge
-    start = 0
-    for k in range(order.size):
-        if k > 0 and flat[order[k]] != flat[order[k - 1]]:
-            start = k
-        rank[order[k]] = start
-    if order.size + math.ceil(math.log2(2 * n)) <= 53:
+    edge = np.empty(n * n, np.int64)
+    value = np.empty(n * n)
+    k = 0
+    if n <= 64:
+        k = _matchable_edges(cost, b, match, edge, value)
+    else:
+        for e in range(n * n):
+            if flat[e] <= b:
+                edge[k] = e
+                value[k] = flat[e]
+                k += 1
+    _ranks(value[:k], edge[:k], rank)
+    if k + math.ceil(math.log2(2 * n)) <= 53:
         # Few edges: every value of the algorithm is an integer below
         # 2 n 2^edges (each row's path length is the rise of the matching
         # cost, so potentials stay within the final cost n C, C < 2^edges / 2),
         # which float64 holds exactly.
         weights = np.full(n * n, np.inf)
-        for e in range(n * n):
-            if rank[e] >= 0:
-                weights[e] = 2.0 ** rank[e]
+        for q in range(k):
+            e = edge[q]
+            weights[e] = math.ldexp(1.0, rank[e])
         return lsap_dense(weights.reshape(n, n))[0]
-    return hungarian_pow2(rank.reshape(n, n), order.size)
+    return hungarian_pow2(rank.reshape(n, n), k)
 
 
 @njit

@@ -346,6 +346,27 @@ def test_bottleneck_kernels_against_brute_force():
             assert np.count_nonzero(weights <= value) == np.count_nonzero(cost <= value)
 
 
+def test_matchable_edges_are_those_of_some_bottleneck_matching():
+    # mmdr-n5 keeps only the edges <= the bottleneck that lie in some perfect
+    # matching of that graph; brute force enumerates every such matching.
+    rng = np.random.default_rng(15)
+    for _ in range(300):
+        n = int(rng.integers(1, 7))
+        cost = scram.distances(*random_problem(rng, n))
+        b, match = bn.bottleneck_dense(cost, np.full(n, -1, np.int64))
+        edge = np.empty(n * n, np.int64)
+        value = np.empty(n * n)
+        k = _bigint._matchable_edges(cost, b, match, edge, value)
+        expected = {
+            i * n + p[i]
+            for p in itertools.permutations(range(n))
+            if all(cost[i, p[i]] <= b for i in range(n))
+            for i in range(n)
+        }
+        assert set(edge[:k].tolist()) == expected
+        np.testing.assert_array_equal(value[:k], cost.ravel()[edge[:k]])
+
+
 def test_distances_exact_on_integer_grids():
     # Equal distances on integer points are exactly equal (ties stay ties).
     a = np.array([[0.0, 0.0], [3.0, 4.0], [1e6, 0.0]])
