@@ -163,7 +163,8 @@ def _sigmoid(v: float) -> float:
 @dataclass
 class WalkOutput:
     """Joint targets (rad, league order; head entries NaN: the walk leaves the head
-    alone) and odometry (dx, dy, dtheta) of the torso since the last call."""
+    alone) and odometry (dx, dy, dtheta) of the torso since the last call (torso
+    frame, m and rad; dtheta from the gyro when the engine has it, standing too)."""
 
     targets: np.ndarray
     odometry: tuple[float, float, float]
@@ -251,7 +252,10 @@ class WalkEngine:
             self.phi = self.phi_start
             self.step[:] = 0.0
             targets = self._targets(standing=True)
-            return WalkOutput(targets, (0.0, 0.0, 0.0), True)
+            # Standing, the torso still turns as it settles over feet a turn left
+            # at different yaws (10-25 deg after a turn in place): the gyro counts it.
+            turned = float(self.gyro[2]) * self.dt if gyro is not None else 0.0
+            return WalkOutput(targets, (0.0, 0.0, turned), True)
         new_phase = not self.walking
         self.walking = True
         self.phi += self.dt / p.phase_length

@@ -96,6 +96,17 @@ def test_odometry_matches_steps_and_stops():
     assert outs[-1].odometry == (0.0, 0.0, 0.0)
 
 
+def test_standing_odometry_counts_the_gyro_turn():
+    # After a turn in place the torso can still turn while standing (feet left at
+    # different yaws settle): the heading odometry keeps integrating the gyro then.
+    e = WalkEngine(0)
+    gyro = np.array([0.0, 0.0, 0.5])  # rad/s about the torso's z axis
+    outs = [e.update(0.0, 0.0, 0.0, gyro=gyro) for _ in range(40)]
+    assert outs[-1].standing
+    assert outs[-1].odometry == pytest.approx((0.0, 0.0, 0.5 * e.dt))
+    assert e.update(0.0, 0.0, 0.0).odometry == (0.0, 0.0, 0.0)  # no gyro: nothing to count
+
+
 def test_unknown_set_is_a_clear_error(engine):
     with pytest.raises(KeyError, match="unknown walk set"):
         engine.update(0, 0, 0, "moonwalk")
