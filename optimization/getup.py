@@ -119,7 +119,9 @@ class GetupTask:
     (the getup parameters are shared by every type), 0 uses `robot_type`;
     controller: "motion" drives the joints as an agent does in a match
     (`Motion.recover`: the getup through `Motion.command`, then the walk's stand),
-    "pid" as `benchmarks/getup.py` does (plain `JointPid`, the getup's last pose held).
+    "pid" as `benchmarks/getup.py` does (plain `JointPid`, the getup's last pose held);
+    fail_penalty: s taken off a trial that does not end standing (0, UT's fitness,
+    trades a surer getup for a faster one; the benchmark wants it sure).
     """
 
     name: str = "getup_front"
@@ -130,12 +132,15 @@ class GetupTask:
     place_noise: float = 0.03
     all_types: int = 0
     controller: str = "motion"
+    fail_penalty: float = 0.0
 
     def __post_init__(self) -> None:
         if self.name not in SIDES:
             raise ValueError(f"getup task must be one of {', '.join(SIDES)}, not {self.name!r}")
         if self.controller not in CONTROLLERS:
             raise ValueError(f"controller must be one of {', '.join(CONTROLLERS)}, not {self.controller!r}")
+        if not self.fail_penalty >= 0.0:
+            raise ValueError(f"fail_penalty must be at least 0 s, not {self.fail_penalty!r}")
 
     @property
     def sets(self) -> tuple[str, ...]:
@@ -148,7 +153,7 @@ class GetupTask:
     @property
     def worst(self) -> float:
         """Never standing."""
-        return -self.seconds
+        return -self.seconds - self.fail_penalty
 
     def trial(self, values: Values, seed: int) -> TrialResult:
         from optimization.task import TrialResult
@@ -202,17 +207,18 @@ class GetupTask:
             else:
                 down += 1
         not_standing = down * CYCLE
-        return TrialResult(-not_standing, {"robot_type": robot_type, "first_up": first_up,
-                                           "getups": getup.count, "standing_at_end": up})
+        fitness = -not_standing - (0.0 if up else self.fail_penalty)
+        return TrialResult(fitness, {"robot_type": robot_type, "first_up": first_up,
+                                     "getups": getup.count, "standing_at_end": up})
 
 
 def getup_front(robot_type: int = 0, seconds: float = 4.0, joint_noise: float = 0.15,
-                all_types: int = 0, controller: str = "motion") -> GetupTask:
+                all_types: int = 0, controller: str = "motion", fail_penalty: float = 0.0) -> GetupTask:
     return GetupTask("getup_front", robot_type, seconds, joint_noise=joint_noise, all_types=all_types,
-                     controller=controller)
+                     controller=controller, fail_penalty=fail_penalty)
 
 
 def getup_back(robot_type: int = 0, seconds: float = 4.0, joint_noise: float = 0.15,
-               all_types: int = 0, controller: str = "motion") -> GetupTask:
+               all_types: int = 0, controller: str = "motion", fail_penalty: float = 0.0) -> GetupTask:
     return GetupTask("getup_back", robot_type, seconds, joint_noise=joint_noise, all_types=all_types,
-                     controller=controller)
+                     controller=controller, fail_penalty=fail_penalty)

@@ -48,6 +48,11 @@ def test_default_parameters_score_better_than_broken_ones(name):
     assert all(-task.seconds <= f <= 0.0 for f in good + bad)
     assert min(bad) < -3.5  # lying all the time (a few cycles of the drop may count as up)
     assert max(good) > -3.0 and min(good) > max(bad) + 0.5
+    if name == "getup_back":  # a trial that does not end standing loses fail_penalty s more
+        harsh = make_task(name, controller="pid", fail_penalty=5.0)
+        lying = task.trial(broken(name), 0).fitness
+        assert harsh.trial(broken(name), 0).fitness == pytest.approx(lying - 5.0)
+        assert harsh.trial(load_values([name], 0), 0).fitness == good[0]  # seed 0 stands at the end
 
 
 def test_a_trial_is_reproducible_from_its_seed():
@@ -65,6 +70,8 @@ def test_bad_task_options_raise():
         GetupTask("getup_front", controller="magic")
     with pytest.raises(ValueError, match="getup task"):
         GetupTask("getup_sideways")
+    with pytest.raises(ValueError, match="fail_penalty"):
+        GetupTask("getup_back", fail_penalty=-1.0)
 
 
 def test_cli_runs_a_short_getup_job(tmp_path, capsys):
