@@ -50,6 +50,7 @@ LEAN = math.radians(40.0)  # torso tilt (rad) beyond which the getup machinery t
 SOLE_FORCE = 10.0  # N under a sole before it counts as flat on the ground
 LANDMARK_GAIN = 0.2  # share of a landmark fix taken into the dead-reckoned pose per vision frame
 LANDMARK_GATE = math.radians(30.0)  # heading fixes farther off than this are ignored
+LANDMARK_GATE_M = 1.0  # m: pose fixes farther than this from the dead-reckoned position are ignored
 
 APPROACH, KICK, DONE, WATCH = "approach", "kick", "done", "watch"
 
@@ -169,7 +170,7 @@ class Kicker:
         if percept.vision is not None:
             obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
                           self._level(percept))
-            if self.use_landmarks:
+            if self.use_landmarks and not self._recovering:  # lying, the level frame is a guess
                 self._fix(obs, percept.side)
         self.ball.see(obs, self.odo, standing)
         # The getup machinery only once the fused tilt estimate says the torso leans
@@ -264,7 +265,8 @@ class Kicker:
 
         Two or more landmarks give a pose (the rigid 2D fit of their seen
         positions onto their known ones); one gives the heading from its bearing
-        and the dead-reckoned position. Each fix moves the pose by `LANDMARK_GAIN`."""
+        and the dead-reckoned position. Each fix moves the pose by `LANDMARK_GAIN`; fixes
+        more than `LANDMARK_GATE` (heading) or `LANDMARK_GATE_M` (position) off are ignored."""
         if self._landmarks is None or getattr(self, "_side", None) != side:
             self._landmarks = landmarks_in_team(side)
             self._side = side
@@ -287,8 +289,8 @@ class Kicker:
             heading = math.atan2(known[0, 1] - odo.y, known[0, 0] - odo.x) - bearing
             px, py = odo.x, odo.y
         dh = wrap(heading - odo.heading)
-        if abs(dh) > LANDMARK_GATE:
-            return
+        if abs(dh) > LANDMARK_GATE or math.hypot(px - odo.x, py - odo.y) > LANDMARK_GATE_M:
+            return  # a misfit (a flag misread while the torso tilts) would drag the pose away
         rel = self.ball_relative()
         odo.heading = wrap(odo.heading + LANDMARK_GAIN * dh)
         odo.x += LANDMARK_GAIN * (px - odo.x)

@@ -1,0 +1,47 @@
+"""The striker's dead reckoning: landmark fixes pull the pose, misfits are ignored (no physics)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from agent.geometry import landmarks_in_team
+from agent.kicker import LANDMARK_GAIN, Kicker
+from agent.perception import Observation
+from skills.kicks import KickSpec
+
+
+class Hold:
+    """A stand-in kick: the Kicker only needs its spec here."""
+
+    spec = KickSpec(name="hold", foot="l", ball=(0.18, 0.05), tolerance=(0.03, 0.03, 0.2),
+                    direction=0.0, distance=1.0)
+
+
+def seen_from(pose, names, side="left"):
+    """The landmarks `names` as a robot at `pose` (x, y, heading; team frame) sees them."""
+    marks = landmarks_in_team(side)
+    x, y, h = pose
+    c, s = math.cos(h), math.sin(h)
+    rel = []
+    for n in names:
+        dx, dy = marks[n][0] - x, marks[n][1] - y
+        rel.append((c * dx + s * dy, -s * dx + c * dy, 0.0))
+    return Observation(time=1.0, landmark_names=tuple(names), landmarks=np.array(rel), ball=None,
+                       lines=np.zeros((0, 2, 3)), player_ours=np.zeros(0, bool),
+                       player_unum=np.zeros(0, int), player_part=np.zeros(0, int),
+                       players=np.zeros((0, 3)), camera_rotation=np.eye(3), camera_position=np.zeros(3))
+
+
+@pytest.mark.parametrize("offset, moves", [((0.5, 0.0), True), ((0.0, -0.8), True), ((3.0, 2.0), False),
+                                           ((-9.8, 2.2), False)])
+def test_a_landmark_fix_pulls_the_pose_unless_it_is_far_off(offset, moves):
+    kicker = Kicker(0, {"hold": Hold()})
+    kicker.start((-5.0, 1.0, 0.3), (5.0, 0.0))
+    truth = (-5.0 + offset[0], 1.0 + offset[1], 0.3)  # what the flags say
+    kicker._fix(seen_from(truth, ["F1R", "F2R", "G1R"]), "left")
+    x, y, h = kicker.pose
+    if moves:
+        assert (x, y) == pytest.approx((-5.0 + LANDMARK_GAIN * offset[0], 1.0 + LANDMARK_GAIN * offset[1]))
+    else:  # a misfit (misread flags while the torso tilts) must not drag the pose 2 m a frame
+        assert (x, y, h) == (-5.0, 1.0, 0.3)
