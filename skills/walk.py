@@ -58,9 +58,10 @@ WALK_SCHEMA: dict[str, str] = {
     "toe_const_offset": "rad", "toe_amplitude": "rad", "toe_phase_offset": "rad",
     "ankle_const_offset": "rad", "ankle_amplitude": "rad", "ankle_phase_offset": "rad",
     "arm_pitch": "rad", "arm_roll": "rad",
-    # Additions to UT's set: gyro damping of the ankles (rad of foot turn per rad/s)
-    # and the joint controller's proportional gain (1/s) the walk is tuned with.
-    "gyro_pitch": "1", "gyro_roll": "1", "joint_kp": "1", "heading_gain": "1",
+    # Additions to UT's set: gyro damping of the ankles (rad of foot turn per rad/s;
+    # gyro_pitch_walk more at a full forward step) and the joint controller's
+    # proportional gain (1/s) the walk is tuned with.
+    "gyro_pitch": "1", "gyro_roll": "1", "joint_kp": "1", "heading_gain": "1", "gyro_pitch_walk": "1",
     "backward_factor": "1",
     # The forward swing's sigmoid steepness (UT: 10); lower is gentler on the motors.
     "swing_steepness": "1",
@@ -114,6 +115,7 @@ class WalkParams:
     arm_roll: float = 0.15
     gyro_pitch: float = 0.0
     gyro_roll: float = 0.0
+    gyro_pitch_walk: float = 0.0
     joint_kp: float = 15.0
     heading_gain: float = 0.0
     backward_factor: float = 0.5
@@ -310,6 +312,9 @@ class WalkEngine:
         if standing:
             fade = min(max((STAND_DAMP_TIME + STAND_DAMP_FADE - self.stop_time) / STAND_DAMP_FADE, 0.0), 1.0)
         gyro_roll, gyro_pitch = fade * p.gyro_roll, fade * p.gyro_pitch
+        # Walking forward or back the ankles damp pitch harder, in proportion to the
+        # step length (turning in place and standing keep gyro_pitch alone).
+        gyro_pitch += p.gyro_pitch_walk * min(1.0, abs(sx) / max(p.max_step_size_x, 1e-9))
         # Lift: cosine during the in-air fraction.
         zfrac = 0.5 * (1 - math.cos(2 * math.pi * (t - fg) / fa)) if fg <= t <= fg + fa else 0.0
         # Forward: the stance foot slides back uniformly (the torso moves over it);

@@ -107,6 +107,20 @@ def test_standing_odometry_counts_the_gyro_turn():
     assert e.update(0.0, 0.0, 0.0).odometry == (0.0, 0.0, 0.0)  # no gyro: nothing to count
 
 
+def test_forward_steps_add_pitch_damping_turning_in_place_does_not():
+    # gyro_pitch_walk adds ankle pitch damping in proportion to the forward step;
+    # the stance foot's pitch target shows it (no tilt, no swing offset on it).
+    p = WalkParams(gyro_pitch=0.01, gyro_pitch_walk=0.02, pid_step_size_x=1.0, pid_step_size_rot=1.0,
+                   pid_tilt=0.0)
+    gyro = np.array([0.0, 1.0, 0.0])  # rad/s pitching
+    for cmd, expected in (((1.0, 0.0, 0.0), 0.03), ((0.5, 0.0, 0.0), 0.02), ((0.0, 0.0, 1.0), 0.01)):
+        e = WalkEngine(0, {"go_to_target": p})
+        for _ in range(5):
+            e.update(*cmd, gyro=gyro)
+        stance = "r" if e.swing == "l" else "l"
+        assert e.foot_targets()[stance][1][1] == pytest.approx(expected), cmd
+
+
 def test_unknown_set_is_a_clear_error(engine):
     with pytest.raises(KeyError, match="unknown walk set"):
         engine.update(0, 0, 0, "moonwalk")
