@@ -23,7 +23,7 @@ import numpy as np
 
 from formations._jit import njit
 from formations._lsap import flip_path, lsap_dense
-from formations.bottleneck import bottleneck_dense, bottleneck_large
+from formations.bottleneck import bottleneck_dense, bottleneck_large, matchable_edges
 
 ONE = np.uint64(1)
 SIGN = np.uint64(1) << np.uint64(63)
@@ -110,45 +110,6 @@ def _ranks(value: np.ndarray, edge: np.ndarray, rank: np.ndarray) -> None:
 
 
 @njit
-def _matchable_edges(
-    cost: np.ndarray, b: float, match: np.ndarray, edge: np.ndarray, value: np.ndarray
-) -> int:
-    """The edges <= b that lie in some perfect matching of that graph, n <= 64.
-
-    `match` is one perfect matching (column of each row). Edge (i, j) is in
-    another one iff it closes an alternating cycle: the row matched to j
-    reaches row i, where row r -> row s whenever r has an edge to s's
-    column. Reachability is a bitset closure. Writes the flat indices and
-    costs to `edge` and `value`; returns how many.
-    """
-    n = cost.shape[0]
-    row4col = np.empty(n, np.int64)
-    for i in range(n):
-        row4col[match[i]] = i
-    reach = np.zeros(n, np.uint64)
-    for i in range(n):
-        bits = np.uint64(0)
-        for j in range(n):
-            if cost[i, j] <= b:
-                bits |= ONE << np.uint64(row4col[j])
-        reach[i] = bits
-    for m in range(n):
-        via = reach[m]
-        for i in range(n):
-            hit = (reach[i] >> np.uint64(m)) & ONE
-            reach[i] |= via & (np.uint64(0) - hit)
-    k = 0
-    for i in range(n):
-        for j in range(n):
-            c = cost[i, j]
-            if c <= b and ((reach[row4col[j]] >> np.uint64(i)) & ONE) != 0:
-                edge[k] = i * n + j
-                value[k] = c
-                k += 1
-    return k
-
-
-@njit
 def mmdr_n5(cost: np.ndarray, dense_max: int) -> np.ndarray:
     """MMDR by the Hungarian algorithm on exact weights 2^rank (Alg. 1), edges <= the bottleneck.
 
@@ -166,7 +127,7 @@ def mmdr_n5(cost: np.ndarray, dense_max: int) -> np.ndarray:
     value = np.empty(n * n)
     k = 0
     if n <= 64:
-        k = _matchable_edges(cost, b, match, edge, value)
+        k = matchable_edges(cost, b, match, edge, value)
     else:
         for e in range(n * n):
             if flat[e] <= b:

@@ -14,7 +14,13 @@ import numpy as np
 from formations._bigint import mmdr_n5
 from formations._jit import njit
 from formations._lsap import lsap_dense, lsap_sparse
-from formations.bottleneck import bottleneck_dense, bottleneck_large, bottleneck_sparse, candidate_edges
+from formations.bottleneck import (
+    bottleneck_dense,
+    bottleneck_large,
+    bottleneck_sparse,
+    candidate_edges,
+    matchable_edges,
+)
 
 INF = np.inf
 LSAP_DENSE_N = 16  # MMD+MSD^2's min-sum step is dense (scipy's result) up to this size, then sparse
@@ -62,11 +68,12 @@ def mmd_msd2(cost: np.ndarray, dense_max: int) -> np.ndarray:
     The bottleneck is `bottleneck_dense` up to `dense_max` rows, else
     `bottleneck_large`. The min-sum step is `lsap_dense` on the full matrix
     up to `LSAP_DENSE_N` rows (the same result as scipy's
-    `linear_sum_assignment`), beyond it `lsap_sparse` on the edges <= b.
+    `linear_sum_assignment`), beyond it `lsap_sparse` on the edges <= b (up to
+    64 rows only those in some perfect matching of that graph).
     """
     n = cost.shape[0]
     if n <= dense_max:
-        b, _ = bottleneck_dense(cost, np.full(n, -1, np.int64))
+        b, match = bottleneck_dense(cost, np.full(n, -1, np.int64))
         if n <= LSAP_DENSE_N:
             sq = np.empty((n, n))
             for i in range(n):
@@ -74,6 +81,16 @@ def mmd_msd2(cost: np.ndarray, dense_max: int) -> np.ndarray:
                     c = cost[i, j]
                     sq[i, j] = c * c if c <= b else INF
             return lsap_dense(sq)[0]
+        if n <= 64:  # only edges in some perfect matching under b (the others never are)
+            edge = np.empty(n * n, np.int64)
+            w = np.empty(n * n)
+            count = matchable_edges(cost, b, match, edge, w)
+            keep = np.zeros(n + 1, np.int64)
+            for q in range(count):
+                keep[edge[q] // n + 1] += 1
+            for i in range(n):
+                keep[i + 1] += keep[i]
+            return lsap_sparse(n, keep, edge[:count] % n, w[:count] * w[:count])[0]
         indptr, indices, weights = candidate_edges(cost, b)
     else:
         b, _, indptr, indices, weights = bottleneck_large(cost)
@@ -116,26 +133,35 @@ def mmdr(cost: np.ndarray, dense_max: int) -> np.ndarray:
     every optimal mapping needs; only edges tight under its optimal duals
     stay, and those of cost b become settled. Edges are kept grouped by row.
     The first bottleneck is `bottleneck_dense` up to `dense_max` rows, else
-    `bottleneck_large`.
+    `bottleneck_large`; up to 64 rows only the edges under it that lie in some
+    perfect matching of that graph enter (`matchable_edges`).
     """
     n = cost.shape[0]
     out = np.full(n, -1, np.int64)
-    if n <= dense_max:
-        b, match = bottleneck_dense(cost, np.full(n, -1, np.int64))
-        indptr, cols, costs = candidate_edges(cost, b)
-    else:
-        b, match, indptr, cols, costs = bottleneck_large(cost)
     ne = 0
-    er = np.empty(cols.size, np.int64)
-    ec = np.empty(cols.size, np.int64)
-    ew = np.empty(cols.size)
-    for i in range(n):
-        for e in range(indptr[i], indptr[i + 1]):
-            if costs[e] <= b:
-                er[ne] = i
-                ec[ne] = cols[e]
-                ew[ne] = costs[e]
-                ne += 1
+    if n <= 64:  # only edges in some perfect matching under the bottleneck (the others never are)
+        b, match = bottleneck_dense(cost, np.full(n, -1, np.int64))
+        edge = np.empty(n * n, np.int64)
+        ew = np.empty(n * n)
+        ne = matchable_edges(cost, b, match, edge, ew)
+        er = edge // n
+        ec = edge % n
+    else:
+        if n <= dense_max:
+            b, match = bottleneck_dense(cost, np.full(n, -1, np.int64))
+            indptr, cols, costs = candidate_edges(cost, b)
+        else:
+            b, match, indptr, cols, costs = bottleneck_large(cost)
+        er = np.empty(cols.size, np.int64)
+        ec = np.empty(cols.size, np.int64)
+        ew = np.empty(cols.size)
+        for i in range(n):
+            for e in range(indptr[i], indptr[i + 1]):
+                if costs[e] <= b:
+                    er[ne] = i
+                    ec[ne] = cols[e]
+                    ew[ne] = costs[e]
+                    ne += 1
     fixed = np.zeros(ne, np.bool_)
     key = np.empty(ne)
     lr = np.empty(n, np.int64)  # local index of each active row (-1: settled)

@@ -23,6 +23,7 @@ from formations._jit import njit
 from formations._lsap import _heap_pop, _heap_push, flip_path
 
 INF = np.inf
+_ONE = np.uint64(1)
 
 
 @njit
@@ -407,3 +408,42 @@ def bottleneck(cost: np.ndarray) -> tuple[float, np.ndarray]:
     if value == INF:
         raise ValueError("cost has no perfect matching of finite edges")
     return float(value), match
+
+
+@njit
+def matchable_edges(
+    cost: np.ndarray, b: float, match: np.ndarray, edge: np.ndarray, value: np.ndarray
+) -> int:
+    """The edges <= b that lie in some perfect matching of that graph, n <= 64.
+
+    `match` is one perfect matching (column of each row). Edge (i, j) is in
+    another one iff it closes an alternating cycle: the row matched to j
+    reaches row i, where row r -> row s whenever r has an edge to s's
+    column. Reachability is a bitset closure. Writes the flat indices and
+    costs to `edge` and `value`; returns how many.
+    """
+    n = cost.shape[0]
+    row4col = np.empty(n, np.int64)
+    for i in range(n):
+        row4col[match[i]] = i
+    reach = np.zeros(n, np.uint64)
+    for i in range(n):
+        bits = np.uint64(0)
+        for j in range(n):
+            if cost[i, j] <= b:
+                bits |= _ONE << np.uint64(row4col[j])
+        reach[i] = bits
+    for m in range(n):
+        via = reach[m]
+        for i in range(n):
+            hit = (reach[i] >> np.uint64(m)) & _ONE
+            reach[i] |= via & (np.uint64(0) - hit)
+    k = 0
+    for i in range(n):
+        for j in range(n):
+            c = cost[i, j]
+            if c <= b and ((reach[row4col[j]] >> np.uint64(i)) & _ONE) != 0:
+                edge[k] = i * n + j
+                value[k] = c
+                k += 1
+    return k

@@ -356,7 +356,7 @@ def test_matchable_edges_are_those_of_some_bottleneck_matching():
         b, match = bn.bottleneck_dense(cost, np.full(n, -1, np.int64))
         edge = np.empty(n * n, np.int64)
         value = np.empty(n * n)
-        k = _bigint._matchable_edges(cost, b, match, edge, value)
+        k = bn.matchable_edges(cost, b, match, edge, value)
         expected = {
             i * n + p[i]
             for p in itertools.permutations(range(n))
