@@ -23,7 +23,7 @@ import numpy as np
 
 from formations._jit import njit
 from formations._lsap import flip_path, lsap_dense
-from formations.bottleneck import bottleneck_dense, bottleneck_large, matchable_edges
+from formations.bottleneck import MATCHABLE_MAX_N, bottleneck_dense, bottleneck_large, matchable_edges
 
 ONE = np.uint64(1)
 SIGN = np.uint64(1) << np.uint64(63)
@@ -126,7 +126,7 @@ def mmdr_n5(cost: np.ndarray, dense_max: int) -> np.ndarray:
     edge = np.empty(n * n, np.int64)
     value = np.empty(n * n)
     k = 0
-    if n <= 64:
+    if n <= MATCHABLE_MAX_N:
         k = matchable_edges(cost, b, match, edge, value)
     else:
         for e in range(n * n):

@@ -15,6 +15,7 @@ from formations._bigint import mmdr_n5
 from formations._jit import njit
 from formations._lsap import lsap_dense, lsap_sparse
 from formations.bottleneck import (
+    MATCHABLE_MAX_N,
     bottleneck_dense,
     bottleneck_large,
     bottleneck_sparse,
@@ -69,7 +70,7 @@ def mmd_msd2(cost: np.ndarray, dense_max: int) -> np.ndarray:
     `bottleneck_large`. The min-sum step is `lsap_dense` on the full matrix
     up to `LSAP_DENSE_N` rows (the same result as scipy's
     `linear_sum_assignment`), beyond it `lsap_sparse` on the edges <= b (up to
-    64 rows only those in some perfect matching of that graph).
+    `MATCHABLE_MAX_N` rows only those in some perfect matching of that graph).
     """
     n = cost.shape[0]
     if n <= dense_max:
@@ -81,7 +82,7 @@ def mmd_msd2(cost: np.ndarray, dense_max: int) -> np.ndarray:
                     c = cost[i, j]
                     sq[i, j] = c * c if c <= b else INF
             return lsap_dense(sq)[0]
-        if n <= 64:  # only edges in some perfect matching under b (the others never are)
+        if n <= MATCHABLE_MAX_N:  # only edges in some perfect matching under b (the others never are)
             edge = np.empty(n * n, np.int64)
             w = np.empty(n * n)
             count = matchable_edges(cost, b, match, edge, w)
@@ -133,13 +134,14 @@ def mmdr(cost: np.ndarray, dense_max: int) -> np.ndarray:
     every optimal mapping needs; only edges tight under its optimal duals
     stay, and those of cost b become settled. Edges are kept grouped by row.
     The first bottleneck is `bottleneck_dense` up to `dense_max` rows, else
-    `bottleneck_large`; up to 64 rows only the edges under it that lie in some
-    perfect matching of that graph enter (`matchable_edges`).
+    `bottleneck_large`; on the dense path up to `MATCHABLE_MAX_N` rows only the
+    edges under it that lie in some perfect matching of that graph enter
+    (`matchable_edges`).
     """
     n = cost.shape[0]
     out = np.full(n, -1, np.int64)
     ne = 0
-    if n <= 64:  # only edges in some perfect matching under the bottleneck (the others never are)
+    if n <= min(dense_max, MATCHABLE_MAX_N):  # only edges in some perfect matching under b
         b, match = bottleneck_dense(cost, np.full(n, -1, np.int64))
         edge = np.empty(n * n, np.int64)
         ew = np.empty(n * n)

@@ -24,6 +24,7 @@ from formations._lsap import _heap_pop, _heap_push, flip_path
 
 INF = np.inf
 _ONE = np.uint64(1)
+MATCHABLE_MAX_N = 64  # rows as bits of one uint64: the most `matchable_edges` takes
 
 
 @njit
@@ -414,7 +415,7 @@ def bottleneck(cost: np.ndarray) -> tuple[float, np.ndarray]:
 def matchable_edges(
     cost: np.ndarray, b: float, match: np.ndarray, edge: np.ndarray, value: np.ndarray
 ) -> int:
-    """The edges <= b that lie in some perfect matching of that graph, n <= 64.
+    """The edges <= b that lie in some perfect matching of that graph, n <= MATCHABLE_MAX_N.
 
     `match` is one perfect matching (column of each row). Edge (i, j) is in
     another one iff it closes an alternating cycle: the row matched to j
