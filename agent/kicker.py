@@ -35,6 +35,7 @@ from agent.geometry import landmarks_in_team
 from agent.perception import Observation, observe
 from models.messages import Percept
 from models.rules import CYCLE
+from skills.align import Align
 from skills.approach import Approach, ApproachCommand, ApproachParams, choose_kick
 from skills.imu import TiltEstimator
 from skills.kicks import KickSkill
@@ -52,7 +53,7 @@ LANDMARK_GAIN = 0.2  # share of a landmark fix taken into the dead-reckoned pose
 LANDMARK_GATE = math.radians(30.0)  # heading fixes farther off than this are ignored
 LANDMARK_GATE_M = 1.0  # m: pose fixes farther than this from the dead-reckoned position are ignored
 
-APPROACH, KICK, DONE, WATCH = "approach", "kick", "done", "watch"
+APPROACH, KICK, DONE, WATCH, ALIGN = "approach", "kick", "done", "watch", "align"
 
 
 @dataclass
@@ -103,7 +104,9 @@ class Kicker:
         engine = WalkEngine(robot_type, dict(walk_sets)) if walk_sets else WalkEngine(robot_type)
         self.motion = Motion(robot_type, engine)
         self.kicks = dict(kicks)
-        self.approach = Approach(engine.sets, approach)
+        self.align = Align(robot_type, kin=engine.kin)
+        self.approach = Approach(engine.sets, approach, align=self.align.params)
+        self._align_start = (0.0, 0.0, 0.0)  # dead-reckoned pose where the align began
         self.odo = Odometry()
         self.ball = BallMemory()
         self.target = (0.0, 0.0)
@@ -165,7 +168,8 @@ class Kicker:
         """Joint velocities (rad/s, league order) for this cycle."""
         self.tilt.update(percept.gyro, percept.accel, CYCLE)
         self._turned(percept)
-        standing = self.state != KICK and self.motion.last is not None and self.motion.last.standing
+        last = self.motion.last
+        standing = self.state not in (KICK, ALIGN) and last is not None and last.standing
         obs = None
         if percept.vision is not None:
             obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
@@ -180,10 +184,12 @@ class Kicker:
         v = self.motion.recover(percept) if leaning or self._recovering else None
         self._recovering = v is not None
         if v is not None:  # down or getting up: start the approach over afterwards
-            if self.state == KICK:
+            if self.state in (KICK, ALIGN):
                 self.state = APPROACH
             self.approach.reset()
             return v
+        if self.state == ALIGN:
+            return self._aligning(percept)
         if self.state == KICK:
             assert self.kick is not None
             target = self.kick.step(percept)
@@ -320,9 +326,29 @@ class Kicker:
             self.kick_started = percept.time
             self.kick.reset(self.ball_relative())
             return self.motion.command(self.kick.step(percept), percept)
-        if cmd.mode == "stop":
+        if cmd.mode == "align" and standing:
+            self.state = ALIGN
+            self._align_start = self.pose
+            self.align.reset(cmd.error)
+            self.motion.walk.reset()
+            return self._aligning(percept)
+        if cmd.mode in ("stop", "align"):
             self._quick_stop()
         return self._walk(percept, cmd.x, cmd.y, cmd.turn, cmd.set_name)
+
+    def _aligning(self, percept: Percept) -> np.ndarray:
+        """One cycle of the align: its targets, and the dead-reckoned position moved as
+        its plan moves the torso (the heading follows the gyro as always)."""
+        target = self.align.step(percept)
+        tx, ty, _ = self.align.torso()
+        x0, y0, h0 = self._align_start
+        c, s = math.cos(h0), math.sin(h0)
+        self.odo.x, self.odo.y = x0 + c * tx - s * ty, y0 + s * tx + c * ty
+        if self.align.done:
+            self.state = APPROACH
+            self.approach.aligned()
+            self.motion.walk.reset()
+        return self.motion.command(target, percept)
 
     def _step_begins(self) -> bool:
         """True in the first cycles of a walk step, with both feet still down."""
@@ -337,4 +363,4 @@ class Kicker:
             self.motion.walk.reset()
 
 
-__all__ = ["APPROACH", "DONE", "KICK", "WATCH", "BallMemory", "Kicker"]
+__all__ = ["ALIGN", "APPROACH", "DONE", "KICK", "WATCH", "BallMemory", "Kicker"]

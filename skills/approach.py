@@ -30,7 +30,9 @@ the kick starts and in which direction (robot frame) it sends the ball.
   heading is within tolerance; otherwise it fixes a small error with a short
   burst of steps, walks on when short, or backs off and comes again (this
   walk turns poorly on the spot, and each stop turns the robot by about 5 deg
-  at random).
+  at random). With `align` given, an error small enough for `skills.align.Align`
+  (a few cm and up to 20 deg) is instead handed to the caller (mode "align"),
+  which steps it off one foot at a time, and the pose is judged again.
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from skills.align import AlignParams
 from skills.kicks import KickSpec
 from skills.navigate import walk_toward, wrap
 from skills.params import PathLike, load_params
@@ -71,7 +74,7 @@ class ApproachParams:
     stop: float = 0.1  # fraction of the tolerance box that counts as lined up (creep, fix)
     creep: float = 0.236  # least forward input creeping up to the ball
     lead: float = 0.00103  # m: the creep stops this far short of the pose (walking estimate)
-    settle: float = 0.264  # s standing before the pose is judged again
+    settle: float = 0.5  # s standing before the pose is judged again
     lookahead: float = 0.115  # m: steering aims this far beyond the pose along the kick line
     fast_creep: float = 0.166  # m: creeping farther than this from the pose may use the go-to-target set
     fast: float = 0.669  # m: the go-to-target set only for a waypoint farther than this and ahead
@@ -177,7 +180,8 @@ class ApproachCommand:
     set_name: str
     ready: bool
     error: tuple[float, float, float]  # (dx m, dy m, dheading rad) to the kick pose, robot frame
-    mode: str = "creep"  # "walk" (to the staging point), "around" (the ball), "creep", "stop", "fix", "back"
+    mode: str = "creep"  # "walk" (to the staging point), "around" (the ball), "creep", "stop", "fix",
+    # "back", or "align": standing, the caller should move the robot by `error` with `skills.align`
 
 
 def _to_kick_frame(point: Sequence[float], ball: Sequence[float], heading: float) -> tuple[float, float]:
@@ -200,10 +204,11 @@ class Approach:
     """
 
     def __init__(self, walk_sets: dict[str, WalkParams], params: ApproachParams | None = None,
-                 dt: float = 0.02) -> None:
+                 dt: float = 0.02, align: AlignParams | None = None) -> None:
         self.sets = walk_sets
         self.params = params or ApproachParams.load()
         self.dt = dt
+        self.align = align  # None: no "align" mode (the caller cannot play `skills.align.Align`)
         self.reset()
 
     def reset(self) -> None:
@@ -213,6 +218,10 @@ class Approach:
         self.smooth: np.ndarray | None = None  # low-passed (dx, dy, dheading, lateral) error near the pose
         self.fix_time = 0.0  # s spent in the current "fix"
         self.near = False  # using the approach-to-kick rule (hysteresis on `near`)
+
+    def aligned(self) -> None:
+        """The caller's `skills.align.Align` has moved the robot: stand, then judge again."""
+        self.phase, self.in_box, self.smooth = "stop", 0.0, None
 
     def _max_speed(self, set_name: str) -> tuple[float, float]:
         """Speeds (m/s) that walk inputs x = 1 and y = 1 of a set give, about."""
@@ -269,9 +278,13 @@ class Approach:
                 return ApproachCommand(0.0, 0.0, 0.0, near_set, False, error, "stop")
             if inside:  # judged on sightings taken while standing still
                 return ApproachCommand(0.0, 0.0, 0.0, near_set, True, error, "stop")
-            # Not there: walk on when short of it, back off when too close or far
-            # off to the side, else fix the error stepping in place; then look again.
+            # Not there: a small error is stepped off precisely, one foot at a time
+            # (`skills.align`); otherwise walk on when short of it, back off when too
+            # close or far off to the side, else fix the error stepping in place.
             self.in_box, self.fix_time = 0.0, 0.0
+            a = self.align
+            if a is not None and max(abs(dx), abs(dy)) <= a.max_move and abs(dh) <= a.max_turn:
+                return ApproachCommand(0.0, 0.0, 0.0, near_set, False, error, "align")
             if dx < -tx or abs(dy) > 2.5 * ty or abs(dh) > th:
                 self.phase = "back"  # turning on the spot is poor: turn walking in again
             elif dx > tx + 0.02 and abs(dy) < 2.0 * ty:
@@ -281,7 +294,10 @@ class Approach:
         vx_max, vy_max = self._max_speed(near_set)
         if self.phase == "back" and fx > p.back:
             self.phase = "creep"
-        if self.phase == "creep" and dx < p.lead:  # there (or past it): stop, look again standing
+        a = self.align
+        close = a is not None and fx < 0.5 * a.max_move and abs(fy) < 0.5 * a.max_move \
+            and abs(fh) < 0.5 * a.max_turn  # the align steps off the rest more precisely
+        if self.phase == "creep" and (dx < p.lead or close):  # there: stop, look again standing
             self.phase, self.in_box = "stop", 0.0
             return ApproachCommand(0.0, 0.0, 0.0, near_set, False, error, "stop")
         if self.phase == "fix":

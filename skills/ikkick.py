@@ -146,7 +146,7 @@ def hermite(t: np.ndarray, p: np.ndarray, m: np.ndarray, s: float) -> np.ndarray
     return h00 * p[k] + h10 * h * m[k] + h01 * p[k + 1] + h11 * h * m[k + 1]
 
 
-def _ease(u: float) -> float:
+def ease(u: float) -> float:
     """Cosine ease from 0 to 1 over u in [0, 1] (zero speed at both ends)."""
     u = min(max(u, 0.0), 1.0)
     return 0.5 * (1.0 - math.cos(math.pi * u))
@@ -276,16 +276,16 @@ class IkKick:
         t3 = t2 + p.land_time
         t4 = t3 + p.unshift_time
         if t < t1:
-            return feet, self._torso(_ease(t / max(t1, 1e-9))), "shift"
+            return feet, self._torso(ease(t / max(t1, 1e-9))), "shift"
         if t < t2:
             feet[self.kick_side] = self.foot_at((t - t1) / p.swing_time)
             return feet, self._torso(1.0), "swing"
         if t < t3:
-            pos = self.spot[self.kick_side] + [0.0, 0.0, p.end_z * (1.0 - _ease((t - t2) / p.land_time))]
+            pos = self.spot[self.kick_side] + [0.0, 0.0, p.end_z * (1.0 - ease((t - t2) / p.land_time))]
             feet[self.kick_side] = (pos, np.zeros(3))
             return feet, self._torso(1.0), "land"
         if t < t4:
-            return feet, self._torso(1.0 - _ease((t - t3) / p.unshift_time)), "unshift"
+            return feet, self._torso(1.0 - ease((t - t3) / p.unshift_time)), "unshift"
         return feet, self._torso(0.0), "settle"
 
     def targets_at(self, t: float, pitch: float = 0.0, roll: float = 0.0) -> np.ndarray:

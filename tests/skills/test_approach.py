@@ -108,6 +108,28 @@ def test_approach_is_ready_only_after_standing_still_in_the_box():
     assert not any(appr.step(turned, ball, TARGET, LEFT, standing=True).ready for _ in range(40))
 
 
+def test_a_small_error_standing_is_handed_to_the_align():
+    from skills.align import AlignParams
+
+    sets = load_walk_sets(default_param_files(0))
+    ball = (0.0, 0.0)
+    gx, gy, gh = kick_pose(ball, TARGET, LEFT)
+    short = (gx - 0.02, gy + 0.025, gh + math.radians(9))  # 2 cm short, 2.5 cm left, turned 9 deg
+    for align, modes in ((AlignParams(), {"align"}), (None, {"fix", "back", "creep"})):
+        appr = Approach(sets, align=align)
+        appr.step(short, ball, TARGET, LEFT, standing=True)  # near the pose: the creep stops at once
+        cmds = [appr.step(short, ball, TARGET, LEFT, standing=True) for _ in range(40)]
+        first = next(c for c in cmds if c.mode != "stop")
+        assert first.mode in modes and not any(c.ready for c in cmds)
+        if align is not None:  # the error to step off: the pose in the robot frame
+            dx, dy, dh = first.error
+            c, s = math.cos(short[2]), math.sin(short[2])
+            ex, ey = gx - short[0], gy - short[1]
+            assert (dx, dy, dh) == pytest.approx((c * ex + s * ey, -s * ex + c * ey, -math.radians(9)))
+            appr.aligned()
+            assert appr.step(short, ball, TARGET, LEFT, standing=True).mode == "stop"  # judged again
+
+
 def test_going_round_the_ball_never_cuts_through_it():
     appr = Approach(load_walk_sets(default_param_files(0)))
     g = (-0.17, 0.05)  # the pose in the kick frame (LEFT)
