@@ -339,6 +339,7 @@ class Kicker:
     def _aligning(self, percept: Percept) -> np.ndarray:
         """One cycle of the align: its targets, and the dead-reckoned position moved as
         its plan moves the torso (the heading follows the gyro as always)."""
+        self.motion.sense(percept)  # keep the body's tilt estimate current for the stand after
         target = self.align.step(percept)
         tx, ty, _ = self.align.torso()
         x0, y0, h0 = self._align_start

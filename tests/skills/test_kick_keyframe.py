@@ -141,6 +141,35 @@ FIXED_TRIES = 3  # kicks per fixed-distance set (seeded offsets); the test takes
 FIXED_DIRECTION_TOLERANCE = math.radians(10.0)  # rad, each kick's direction from its spec's
 
 
+
+@pytest.mark.parametrize("foot", ["l", "r"])
+def test_a_kick_started_at_any_moment_of_the_stands_rocking_does_not_fall(foot):
+    # The stand rocks on its feet at about 6.5 Hz; started 0.40-0.55 s after standing
+    # (every 10 ms: one whole period), the long kick fell 4 times in 16 per foot until it
+    # learnt to wait for its phase (skills.kick.START_PITCH_RATE).
+    kick = KeyframeKick.load("long_kick", foot, 0)
+    falls = [round(0.4 + 0.01 * i, 2) for i in range(16) if kick_once(kick, 0, hold=0.4 + 0.01 * i).fell]
+    assert not falls, falls
+
+
+def test_a_kick_waits_at_most_start_wait_for_the_pitch_rate():
+    from models.messages import Percept
+    from skills.kick import START_PITCH_RATE, START_WAIT
+
+    kick = KeyframeKick.load("kick", "l", 0)
+    q = stand_pose(0)
+
+    def percept(t: float, rate: float) -> Percept:
+        return Percept(t, t, "PlayOn", 0, 0, "L", 1, 0, q.copy(), np.array([0.0, rate, 0.0]),
+                       np.array([0.0, 0.0, 9.81]), np.array([20.0, 20.0]))
+
+    kick.reset()
+    held = [bool(np.isnan(kick.step(percept(0.02 * i, START_PITCH_RATE - 0.3))).all()) for i in range(40)]
+    assert held.index(False) == pytest.approx(START_WAIT / 0.02, abs=1)  # holds, then starts anyway
+    kick.reset()
+    assert not np.isnan(kick.step(percept(0.0, START_PITCH_RATE + 0.1))).all()  # the right way: at once
+
+
 @pytest.mark.parametrize("set_name", fixed_distance_sets())
 def test_fixed_distance_kick_reaches_its_distance(set_name):
     kick = keyframe_kicks(0)[f"{set_name}_left"]
