@@ -7,8 +7,9 @@ percepts alone (vision every third cycle, dead reckoning from the start pose,
 as after a beam); ground truth only measures:
 
 * standing: the robot stands at the kick's pose behind the ball (within 1 cm
-  and 2 deg), watches the ball for `LOOK` s, then kicks toward the kick's own
-  direction;
+  and 2 deg), watches the ball for a random `LOOK` s (seeded; by then its stand
+  rocks on its feet at about 6.5 Hz, at a random phase, as after any wait in play),
+  then kicks toward the kick's own direction;
 * walking: it starts 1 to 2 m from the ball at a random bearing, facing the
   ball, and must approach and kick toward a target in a random direction.
 
@@ -78,7 +79,7 @@ ROLL_LIMIT = 4.0  # s after contact that the ball rolls in physics; the rest is 
 STOPPED = 0.02  # m/s: the ball counts as stopped below this speed
 FALLEN_UP = 0.5  # torso up-vector z below which the robot has fallen
 MIN_TOWARD = 1.0  # m toward the target for a success
-LOOK = 0.4  # s a standing robot watches the ball before kicking
+LOOK = (0.6, 1.2)  # s: a standing robot watches the ball this long (uniform) before kicking
 MODES = ("standing", "walking")
 
 
@@ -100,12 +101,14 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
         x, y, h = kick_pose(ball, target, kick.spec)
         x, y = x + rng.normal(0.0, 0.01), y + rng.normal(0.0, 0.01)
         heading = h + math.radians(rng.normal(0.0, 2.0))
+        look = float(rng.uniform(*LOOK))
     else:
         d, a = rng.uniform(1.0, 2.0), rng.uniform(-math.pi, math.pi)
         x, y = ball[0] + d * math.cos(a), ball[1] + d * math.sin(a)
         heading = math.atan2(ball[1] - y, ball[0] - x)
         target_dir = rng.uniform(-math.pi, math.pi)
         target = ball + 10.0 * np.array([math.cos(target_dir), math.sin(target_dir)])
+        look = 0.0
     stand = WalkAgent(robot_type, kicker.motion.walk.sets).stand_pose()
     w.place_robot(0, x, y, heading, joints=stand)
     w.settle_height(0)
@@ -116,8 +119,8 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
     end = t0 + APPROACH_LIMIT
     while w.time < end:
         percept = tr.percepts()[0]
-        if mode == "standing" and kicker.kick_started is None and w.time - t0 >= LOOK:
-            kicker.kick_now(percept)  # after watching the ball LOOK s
+        if mode == "standing" and kicker.kick_started is None and w.time - t0 >= look:
+            kicker.kick_now(percept)  # after watching the ball `look` s
         touched = tr.step({0: Action(kicker.act(percept))})
         fell = fell or bool(w.torso_up()[0] < FALLEN_UP)
         if kicker.state == KICK and contact is None:

@@ -60,12 +60,10 @@ BALANCE_SCHEMA: dict[str, str] = {"bal_roll": "1", "bal_droll": "s", "bal_pitch"
 SLEW_SCHEMA: dict[str, str] = {"slew": "deg"}
 # The stand rocks on its feet at about 6.5 Hz (torso pitch rate up to 0.4 rad/s, every
 # type, even under a joint PID run every 5 ms). A keyframe kick that starts while the
-# torso's pitch rate falls through the quarter below zero falls far more often: long
-# kick, type 0, 160 starts at random times after standing, 28 of 34 started in that
-# quarter fell, 13 of 126 otherwise. So a kick waits, at most `START_WAIT`, for the
-# gyro's pitch rate to reach `START_PITCH_RATE`. Falls in 80 such starts, without ->
-# with the wait: kick left 22 -> 8, right 36 -> 8, kick_5m right 33 -> 6; long kick
-# left 41 of 160 -> 2 of 80. The IK kicks never fell from any phase (4 x 80 starts).
+# torso's pitch rate is below zero falls far more often: long kick, type 0, 160 starts
+# at random times after standing, 35 of 72 started below zero fell, 6 of 88 otherwise.
+# So a kick holds the stand (at most `START_WAIT`) until the gyro's pitch rate reaches
+# `START_PITCH_RATE`.
 START_PITCH_RATE = 0.1  # rad/s, gyro y (0.0-0.2 do about as well)
 START_WAIT = 0.3  # s
 FAST_KEYFRAMES = (4, 5)  # indices of k3 and k4 (pull back, swing) in KICK_LEFT: their targets jump
@@ -208,13 +206,13 @@ class KeyframeKick:
 
     def step(self, percept: Percept) -> np.ndarray:
         """Joint targets (rad, league order) for this cycle."""
-        self.tilt.update(percept.gyro, percept.accel, CYCLE)
         if not self._started:  # wait for the stand's rocking to pitch the right way
             if self._asked is None:
                 self._asked = percept.time
-            if percept.gyro[1] < START_PITCH_RATE and percept.time - self._asked < START_WAIT:
+            if percept.gyro[1] < START_PITCH_RATE and percept.time - self._asked < START_WAIT - 1e-9:
                 return np.full(len(percept.joints), np.nan)  # hold the stand
-            self._started = True
+            self._started = True  # from here on as if it had started now
+        self.tilt.update(percept.gyro, percept.accel, CYCLE)
         if self._ref is None:  # upright: the stand pose's torso is level (the first reading may not be)
             self._ref = (0.0, 0.0)
         raw = self.player.step(percept.time, percept.joints)
