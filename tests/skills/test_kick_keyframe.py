@@ -127,7 +127,7 @@ def test_kick_moves_the_ball_forward_without_falling(set_name, foot):
 def test_kick_works_on_other_types(robot_type):
     # Started at 8 moments of the stand's rocking (after 0.6-1.1 s). These types' kicks
     # still fall often from a rocking stand (issue 4's open shortfall; standing trials,
-    # 60 kicks each: type 1 2%, 2 37%, 3 20%, 4 38%), so the test asks for 3 of 8.
+    # 60 kicks each: type 1 2%, 2 37%, 3 20%, 4 3%), so the test asks for 3 of 8.
     kick = keyframe_kicks(robot_type)["kick_left"]
     outs = [kick_once(kick, robot_type, hold=0.6 + 0.075 * i) for i in range(8)]
     assert sum(success(kick.spec, o, minimum=2.0) for o in outs) >= 3, outs
