@@ -14,9 +14,10 @@ one leg (`skills.ikkick`). For each foot in turn:
 4. unshift: the torso moves back between the feet: halfway to the goal after
    the first step, onto it after the second.
 
-The first foot to move is the one whose move widens the stance, so the feet
-never cross. Both feet end on the stand spots of the moved pose, so the walk's
-stand (and any kick) takes over where `Align` ends.
+Turning, the foot that turns inward moves first (a Nao's hip turns a sole only
+inward); otherwise the one whose move widens the stance, so the feet never cross.
+Both feet end on the stand spots of the moved pose, so the walk's stand (and any
+kick) takes over where `Align` ends.
 
 Frames: the *ground frame* is the robot frame at the start (the torso projected
 on the ground, x forward, y left, z up from the ground; m, rad). The torso is
@@ -33,10 +34,9 @@ from pathlib import Path
 
 import numpy as np
 
-from models import nao
 from models.messages import Percept
 from skills.ik import LegIK
-from skills.ikkick import ease
+from skills.ikkick import ease, stand_stance
 from skills.kinematics import RobotKinematics
 from skills.params import PathLike, load_params
 from skills.walk import WalkEngine
@@ -68,6 +68,10 @@ class AlignParams:
         """Shipped values (skills/data/align.params), then `paths` (later override)."""
         return replace(cls(), **load_params([DATA / "align.params", *paths], ALIGN_SCHEMA, "align_"))
 
+    def fits(self, move: tuple[float, float, float]) -> bool:
+        """Whether `move` (dx m, dy m, dturn rad; ground frame) is small enough to take on."""
+        return max(abs(move[0]), abs(move[1])) <= self.max_move and abs(move[2]) <= self.max_turn
+
     @property
     def step_time(self) -> float:
         return self.shift_time + self.swing_time + self.land_time + self.unshift_time
@@ -91,11 +95,8 @@ class Align:
         self.ik = ik or LegIK(robot_type)
         kin = kin or RobotKinematics(robot_type)
         self.stand = WalkEngine(robot_type).update(0.0, 0.0, 0.0).targets if stand is None else stand
-        names = nao.joint_names(robot_type)
-        self.legs = {s: np.array([names.index(f"{s}lj{k}") for k in range(1, 7)]) for s in "lr"}
-        soles = kin.foot_poses(np.where(np.isnan(self.stand), 0.0, self.stand))
-        self.height = -0.5 * float(soles[0][2, 3] + soles[1][2, 3])  # torso above the ground (m)
-        self.spot = {s: T[:2, 3].copy() for s, T in zip("lr", soles)}  # stand sole spots (torso frame)
+        # leg joint indices, torso height above the ground (m), stand sole spots (torso frame)
+        self.legs, self.height, self.spot = stand_stance(robot_type, kin, self.stand)
         # The torso relative to the support sole in single support: `shift` toward it
         # from the stand, as the IK kicks stand.
         self.over = {s: np.array([0.0, math.copysign(self.params.shift, self.spot[s][1])]) - self.spot[s]
@@ -104,8 +105,7 @@ class Align:
 
     def fits(self, move: tuple[float, float, float]) -> bool:
         """Whether `move` (dx m, dy m, dturn rad; ground frame) is small enough to take on."""
-        p = self.params
-        return abs(move[0]) <= p.max_move and abs(move[1]) <= p.max_move and abs(move[2]) <= p.max_turn
+        return self.params.fits(move)
 
     def reset(self, move: tuple[float, float, float]) -> None:
         """Plan the move of the torso by `move` (dx, dy in m, dturn in rad; ground frame)."""

@@ -282,8 +282,7 @@ class Approach:
             # (`skills.align`); otherwise walk on when short of it, back off when too
             # close or far off to the side, else fix the error stepping in place.
             self.in_box, self.fix_time = 0.0, 0.0
-            a = self.align
-            if a is not None and max(abs(dx), abs(dy)) <= a.max_move and abs(dh) <= a.max_turn:
+            if self.align is not None and self.align.fits(error):
                 return ApproachCommand(0.0, 0.0, 0.0, near_set, False, error, "align")
             if dx < -tx or abs(dy) > 2.5 * ty or abs(dh) > th:
                 self.phase = "back"  # turning on the spot is poor: turn walking in again

@@ -50,7 +50,7 @@ from models.rules import CYCLE
 from skills.ik import LegIK
 from skills.imu import TiltEstimator
 from skills.kicks import KickSpec
-from skills.kinematics import RobotKinematics
+from skills.kinematics import LEG_JOINTS, RobotKinematics
 from skills.params import PathLike, load_param_sets
 from skills.walk import WalkEngine
 
@@ -146,6 +146,18 @@ def hermite(t: np.ndarray, p: np.ndarray, m: np.ndarray, s: float) -> np.ndarray
     return h00 * p[k] + h10 * h * m[k] + h01 * p[k + 1] + h11 * h * m[k + 1]
 
 
+def stand_stance(robot_type: int, kin: RobotKinematics, stand: np.ndarray
+                 ) -> tuple[dict[str, np.ndarray], float, dict[str, np.ndarray]]:
+    """Per side, the leg's joint indices (league order); the torso's height above the
+    ground (m) and the sole spots (x, y; torso frame, m) in the stand pose `stand`
+    (rad, league order; NaN read as 0)."""
+    names = nao.joint_names(robot_type)
+    legs = {s: np.array([names.index(s + j) for j in LEG_JOINTS]) for s in "lr"}
+    soles = kin.foot_poses(np.where(np.isnan(stand), 0.0, stand))
+    height = -0.5 * float(soles[0][2, 3] + soles[1][2, 3])
+    return legs, height, {s: T[:2, 3].copy() for s, T in zip("lr", soles)}
+
+
 def ease(u: float) -> float:
     """Cosine ease from 0 to 1 over u in [0, 1] (zero speed at both ends)."""
     u = min(max(u, 0.0), 1.0)
@@ -183,13 +195,9 @@ class IkKick:
             self.kin = RobotKinematics(self.robot_type)
         if self.stand is None:
             self.stand = WalkEngine(self.robot_type).update(0.0, 0.0, 0.0).targets
-        names = nao.joint_names(self.robot_type)
-        self.legs = {s: np.array([names.index(f"{s}lj{k}") for k in range(1, 7)]) for s in "lr"}
-        q0 = np.where(np.isnan(self.stand), 0.0, self.stand)
-        soles = self.kin.foot_poses(q0)
-        self.height = -0.5 * float(soles[0][2, 3] + soles[1][2, 3])  # torso above the ground (m)
+        self.legs, self.height, spots = stand_stance(self.robot_type, self.kin, self.stand)
         # Stand sole spots in the ground frame (z = 0).
-        self.spot = {s: np.array([T[0, 3], T[1, 3], 0.0]) for s, T in zip("lr", soles)}
+        self.spot = {s: np.append(xy, 0.0) for s, xy in spots.items()}
         self.kick_side = self.spec.foot
         self.support = "r" if self.kick_side == "l" else "l"
         self.reset()
@@ -382,5 +390,5 @@ def ik_kicks(robot_type: int, param_paths: Iterable[PathLike] = (),
     return out
 
 
-__all__ = ["IkKick", "IkKickParams", "UnreachableKick", "Unreachable", "Waypoint", "hermite",
-           "default_param_files", "hermite_tangents", "ik_kicks", "load_ik_params"]
+__all__ = ["IkKick", "IkKickParams", "UnreachableKick", "Unreachable", "Waypoint", "ease", "hermite",
+           "default_param_files", "hermite_tangents", "ik_kicks", "load_ik_params", "stand_stance"]
