@@ -53,8 +53,8 @@ def kick_once(kick: KeyframeKick, robot_type: int, offset: tuple[float, float] =
     """Stand the robot at the origin facing +x with the ball at the kick's offset (+ `offset`, m),
     play the kick through `Motion.command` from percepts only, then stand until the ball stops
     or `limit` s after the kick's start; a ball still rolling then is extrapolated to its stop
-    (`World.ball_rest_position`). Before the kick the robot holds the stand pose for `hold`
-    s, or stands in the walk's stand (as agents do) with `walk_stand`."""
+    (`World.ball_rest_position`). Before the kick the robot stands `hold` s: in the walk's
+    stand looking at the ball, as agents do (`walk_stand`), or holding the stand pose."""
     tr = Trainer(Lineup((robot_type,), ()), vision=False)
     w = tr.world
     mo = Motion(robot_type)
@@ -147,7 +147,6 @@ def fixed_tolerance(nominal: float) -> float:
 
 FIXED_TRIES = 6  # kicks per fixed-distance set (seeded offsets); the test takes their mean
 FIXED_DIRECTION_TOLERANCE = math.radians(10.0)  # rad, the kicks' mean direction from the spec's
-
 
 
 @pytest.mark.parametrize("foot", ["l", "r"])
