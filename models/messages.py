@@ -16,7 +16,10 @@ import numpy as np
 SEEN_PARTS = ("head", "llowerarm", "rlowerarm", "lfoot", "rfoot")  # other robots' parts in view
 
 
-@dataclass(frozen=True)
+# Vision and Percept are read-only by convention, not frozen: the server builds 22 of
+# each every (vision) cycle, and a frozen dataclass takes four times as long to build
+# (2.0 against 0.5 us a Percept).
+@dataclass(slots=True)
 class Vision:
     """One vision percept (every third cycle): everything inside the 120 deg cone.
 
@@ -53,7 +56,7 @@ class HeardMessage:
     text: str
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class Percept:
     """What one agent is told at the start of a cycle.
 

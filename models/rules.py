@@ -56,15 +56,12 @@ class PlayMode(str, Enum):
     @property
     def team(self) -> str | None:
         """'L' or 'R' for a mode that belongs to one team, else None."""
-        v = self.value.lower()
-        if v.endswith("_left"):
-            return "L"
-        if v.endswith("_right"):
-            return "R"
-        return None
+        return _MODE_TEAM[self]
 
 
 PLAY_MODES = tuple(PlayMode)
+_MODE_TEAM = {m: "L" if m.value.lower().endswith("_left") else "R" if m.value.lower().endswith("_right")
+              else None for m in PlayMode}
 
 
 def restart(kind: str, team: str) -> PlayMode:

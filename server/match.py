@@ -187,14 +187,15 @@ class Match:
         said: dict[int, str] = {}
         warnings: dict[int, list[str]] = {}
         try:  # the usual case: every agent sends the right number of finite velocities
-            v = np.concatenate([a.joint_velocities for a in actions], dtype=float)
-            ok = v.shape == self._max_speed.shape and bool(np.isfinite(v).all()) and all(
-                np.shape(a.joint_velocities) == (n,) for a, n in zip(actions, self.n_joints))
+            jv = [a.joint_velocities for a in actions]
+            v = np.concatenate(jv, dtype=float)
+            ok = v.ndim == 1 and [len(x) for x in jv] == self.n_joints and bool(np.isfinite(v).all())
         except (AttributeError, TypeError, ValueError):
             ok = False
         if not ok:
             v = np.concatenate([self._velocities(i, a, warnings) for i, a in enumerate(actions)])
         beam_ok = None
+        self.targets.fill(np.nan)
         for i, a in enumerate(actions):
             if a.say is not None:
                 err = say_error(a.say)
@@ -210,10 +211,10 @@ class Match:
                     self._beam(i, a.beam)
                 else:
                     warnings.setdefault(i, []).append(f"beam refused in {self.referee.mode.value}")
-            target = a.annotations.get("target") if a.annotations else None
-            self.targets[i] = target if target is not None else (np.nan, np.nan)
+            if a.annotations and a.annotations.get("target") is not None:
+                self.targets[i] = a.annotations["target"]
         ctrl = np.zeros(w.model.nu)
-        ctrl[self._act_index] = np.clip(v, -self._max_speed, self._max_speed)
+        ctrl[self._act_index] = np.maximum(np.minimum(v, self._max_speed), -self._max_speed)
         return ctrl, said, warnings
 
     def _velocities(self, i: int, a: Action, warnings: dict[int, list[str]]) -> np.ndarray:

@@ -30,6 +30,7 @@ from models.rules import (
     PlayMode,
     restart,
 )
+from server._kernels import fallen_rules
 from server.world import World
 
 PM = PlayMode
@@ -88,6 +89,15 @@ class Referee:
         self.touches = {"L": 0, "R": 0}
         self.falls = {"L": 0, "R": 0}
         self.is_goalie = world.unum_of == GOALIE
+        self._own_sign = np.where(world.side_of == "L", -1.0, 1.0)  # sign of x in the own half
+        self._nobody = np.zeros(n, dtype=bool)
+        self._standing_z = 0.6 * world.heights  # m, torso height above which a player stands
+        self._down_limit = np.where(self.is_goalie, GOALIE_FALLEN_REPOSITION_TIME,
+                                    FALLEN_REPOSITION_TIME)
+        self._unsteady_limit = np.where(self.is_goalie, GOALIE_NOT_STANDING_REPOSITION_TIME,
+                                        NOT_STANDING_REPOSITION_TIME)
+        self._new_falls = np.empty(n, dtype=np.int64)  # players, written by fallen_rules
+        self._late = np.empty(n, dtype=np.int64)
 
     # ------------------------------------------------------------------ helpers
 
@@ -187,7 +197,7 @@ class Referee:
 
     def _check_ball(self) -> None:
         w = self.world
-        x, y, z = w.ball_position()
+        x, y, z = w.ball_position().tolist()
         r = field.BALL_RADIUS
         last = self.last_touch
         last_team = self._team(last) if last is not None else None
@@ -237,43 +247,50 @@ class Referee:
         w = self.world
         team = self.mode.team
         ball = w.ball_position()[:2]
-        pos = w.torso_positions()[:, :2]
+        pos = w.torso_positions()
+        x, y = pos[:, 0], pos[:, 1]
+        own = self._own_sign  # sign of x in each player's own half
         kickoff = self.mode in (PM.KICK_OFF_LEFT, PM.KICK_OFF_RIGHT)
-        for i in range(len(w.players)):
-            side = self._team(i)
-            own = -1.0 if side == "L" else 1.0  # sign of x in the own half
-            x, y = pos[i]
-            if kickoff and x * own < 0:
-                self._move(i, own * 0.5, y, "in the opponents' half at kickoff")
-                x = own * 0.5
-            if side == team:
-                continue
-            if self.mode in (PM.GOAL_KICK_LEFT, PM.GOAL_KICK_RIGHT):
-                gx = -field.HALF_LENGTH if team == "L" else field.HALF_LENGTH
-                front = abs(gx) - field.PENALTY_DEPTH
-                if abs(x) > front and abs(y) < field.PENALTY_WIDTH / 2 and x * gx > 0:
-                    self._move(i, math.copysign(front - GOAL_KICK_DISTANCE, gx), y,
-                               "in the penalty area at a goal kick")
-                continue
+        wrong_half = (x * own < 0) if kickoff else self._nobody
+        x[wrong_half] = 0.5 * own[wrong_half]
+        opponent = w.side_of != team
+        goal_kick = self.mode in (PM.GOAL_KICK_LEFT, PM.GOAL_KICK_RIGHT)
+        if goal_kick:
+            gx = -field.HALF_LENGTH if team == "L" else field.HALF_LENGTH
+            front = abs(gx) - field.PENALTY_DEPTH
+            close = opponent & (np.abs(x) > front) & (np.abs(y) < field.PENALTY_WIDTH / 2) & (x * gx > 0)
+        else:
             d = np.hypot(x - ball[0], y - ball[1])
-            if d < FREE_KICK_DISTANCE:
-                u = (np.array([x, y]) - ball) / d if d > 1e-6 else np.array([own, 0.0])
-                target = ball + u * (FREE_KICK_DISTANCE + 0.3)
-                if kickoff:
-                    target[0] = own * max(abs(target[0]), 0.5)
-                self._move(i, target[0], target[1], "too close to the ball at a restart")
+            close = opponent & (d < FREE_KICK_DISTANCE)
+        move = wrong_half | close
+        if not move.any():
+            return
+        for i in np.flatnonzero(move).tolist():
+            if wrong_half[i]:
+                self._move(i, x[i], y[i], "in the opponents' half at kickoff")
+            if not close[i]:
+                continue
+            if goal_kick:
+                self._move(i, math.copysign(front - GOAL_KICK_DISTANCE, gx), y[i],
+                           "in the penalty area at a goal kick")
+                continue
+            u = np.array([x[i], y[i]]) - ball
+            u = u / d[i] if d[i] > 1e-6 else np.array([own[i], 0.0])
+            target = ball + u * (FREE_KICK_DISTANCE + 0.3)
+            if kickoff:
+                target[0] = own[i] * max(abs(target[0]), 0.5)
+            self._move(i, target[0], target[1], "too close to the ball at a restart")
 
     def _illegal_defense(self) -> None:
         w = self.world
         pos = w.torso_positions()
+        x = pos[:, 0]
         inside = (np.abs(pos[:, 1]) < field.PENALTY_WIDTH / 2) & (
-            np.abs(pos[:, 0]) > field.HALF_LENGTH - field.PENALTY_DEPTH) & (
-            np.abs(pos[:, 0]) <= field.HALF_LENGTH)
-        own = np.where(w.side_of == "L", pos[:, 0] < 0, pos[:, 0] > 0)
-        inside &= own
-        now = w.time
-        self.area_since = np.where(inside, np.where(np.isnan(self.area_since), now,
-                                                    self.area_since), np.nan)
+            x * self._own_sign > field.HALF_LENGTH - field.PENALTY_DEPTH) & (np.abs(x) <= field.HALF_LENGTH)
+        self.area_since[~inside] = np.nan
+        self.area_since[inside & np.isnan(self.area_since)] = w.time
+        if np.count_nonzero(inside) <= MAX_IN_PENALTY_AREA:  # the usual case
+            return
         for team in ("L", "R"):
             idx = np.nonzero(inside & (w.side_of == team))[0]
             if len(idx) <= MAX_IN_PENALTY_AREA:
@@ -289,27 +306,18 @@ class Referee:
 
     def _fallen(self) -> None:
         w = self.world
-        up = w.torso_up()
-        z = w.torso_positions()[:, 2]
-        now = w.time
-        down = up < DOWN_UP_Z
-        standing = (up > STANDING_UP_Z) & (z > 0.6 * w.heights)
-        new_falls = down & ~self.fallen
-        for i in np.nonzero(new_falls)[0]:
+        d = w.data
+        new_falls, late = self._new_falls, self._late
+        nf, nl = fallen_rules(
+            d.xmat[w.torso_ids, 8], d.xpos[w.torso_ids, 2], self._standing_z, self.fallen,
+            self.down_since, self.unsteady_since, self._down_limit, self._unsteady_limit, w.time,
+            (DOWN_UP_Z, UP_AGAIN_Z, STANDING_UP_Z), new_falls, late)
+        for i in new_falls[:nf].tolist():
             self.falls[self._team(i)] += 1
-        self.fallen = np.where(down, True, np.where(up > UP_AGAIN_Z, False, self.fallen))
-        self.down_since = np.where(down, np.where(np.isnan(self.down_since), now,
-                                                  self.down_since), np.nan)
-        self.unsteady_since = np.where(~standing, np.where(np.isnan(self.unsteady_since), now,
-                                                           self.unsteady_since), np.nan)
-        if self.mode not in LIVE:
+        if nl == 0 or self.mode not in LIVE:
             return
-        down_limit = np.where(self.is_goalie, GOALIE_FALLEN_REPOSITION_TIME, FALLEN_REPOSITION_TIME)
-        unsteady_limit = np.where(self.is_goalie, GOALIE_NOT_STANDING_REPOSITION_TIME,
-                                  NOT_STANDING_REPOSITION_TIME)
-        late = ((now - self.down_since) >= down_limit) | ((now - self.unsteady_since) >= unsteady_limit)
         pos = w.torso_positions()
-        for i in np.nonzero(late)[0]:
+        for i in late[:nl].tolist():
             self.fallen[i] = False
             y = math.copysign(field.HALF_WIDTH + 0.4, pos[i, 1] if pos[i, 1] != 0 else 1.0)
-            self._move(int(i), pos[i, 0], y, "down or not standing too long")
+            self._move(i, pos[i, 0], y, "down or not standing too long")

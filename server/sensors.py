@@ -44,6 +44,6 @@ def percepts(world: World, proprio: Proprioception, vision: dict[int, Vision], g
     return [Percept(
         time=time, game_time=game_time, play_mode=play_mode, score_left=left, score_right=right,
         side=p.side, unum=p.unum, robot_type=p.robot_type, joints=q, gyro=gyro, accel=acc,
-        foot_forces=soles, vision=vision.get(i), heard=tuple(heard.get(i, ())),
-        warnings=tuple(warnings.get(i, ())),
+        foot_forces=soles, vision=vision.get(i) if vision else None,
+        heard=tuple(heard[i]) if i in heard else (), warnings=tuple(warnings[i]) if i in warnings else (),
     ) for i, (p, (q, gyro, acc, soles)) in enumerate(zip(world.players, proprio.read()))]

@@ -24,12 +24,11 @@ from models.rules import (
     VISION_SIGMA_HORIZONTAL,
     VISION_SIGMA_VERTICAL,
 )
+from server._kernels import camera_views
 from server.world import World
 
 HALF_CONE = VIEW_CONE / 2
 _T = math.tan(HALF_CONE)
-# Inward normals of the four planes bounding the view pyramid (camera frame).
-_PLANES = np.array([[_T, -1.0, 0.0], [_T, 1.0, 0.0], [_T, 0.0, -1.0], [_T, 0.0, 1.0]])
 
 
 def to_polar(rel: np.ndarray) -> np.ndarray:
@@ -39,42 +38,9 @@ def to_polar(rel: np.ndarray) -> np.ndarray:
                      np.arctan2(z, np.hypot(x, y))], axis=-1)
 
 
-def from_polar(pol: np.ndarray) -> np.ndarray:
-    """Inverse of `to_polar`: (..., 3) polar -> camera-frame vectors."""
-    d, h, v = pol[..., 0], pol[..., 1], pol[..., 2]
-    c = np.cos(v)
-    return np.stack([d * c * np.cos(h), d * c * np.sin(h), d * np.sin(v)], axis=-1)
-
-
 def in_cone(pol: np.ndarray) -> np.ndarray:
     """Mask of polar points inside the view cone."""
     return (np.abs(pol[..., 1]) <= HALF_CONE) & (np.abs(pol[..., 2]) <= HALF_CONE)
-
-
-def in_cone_xyz(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """Mask of camera-frame points (x, y, z) inside the view cone: `in_cone` of their
-    polar coordinates, decided without computing the angles."""
-    return (np.abs(y) <= _T * x) & (z * z <= (_T * _T) * (x * x + y * y))
-
-
-def clip_segments(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Clip (m, 3) camera-frame segments a-b to the view pyramid.
-
-    Returns the clipped end points and a mask of segments with a visible part.
-    """
-    fa = a @ _PLANES.T
-    fb = b @ _PLANES.T
-    out_a = fa < 0
-    out_b = fb < 0
-    enter = out_a & ~out_b
-    leave = out_b & ~out_a
-    # Where a segment crosses a plane, fa and fb differ in sign, so fa - fb != 0.
-    t = fa / np.where(enter | leave, fa - fb, 1.0)
-    t0 = np.where(enter, t, 0.0).max(axis=1)
-    t1 = np.where(leave, t, 1.0).min(axis=1)
-    visible = ~(out_a & out_b).any(axis=1) & (t0 < t1)
-    d = b - a
-    return a + t0[:, None] * d, a + t1[:, None] * d, visible
 
 
 class VisionSensor:
@@ -97,13 +63,14 @@ class VisionSensor:
         nl = len(self._names)
         nparts = world.part_ids.shape[1]
         self._nl = nl
-        # Every object's world coordinates, one row per axis, in column order:
-        # landmarks, ball, then each player's SEEN_PARTS. Landmarks never move; the
-        # rest is refreshed per call. And the field lines' end points (a0, b0, a1, ...).
+        # Every point's world coordinates, one row each: the objects in column order
+        # (landmarks, ball, then each player's SEEN_PARTS), then the field lines' end
+        # points (a0, b0, a1, ...). Landmarks and lines never move; the rest is
+        # refreshed per call.
         self._nobj = nl + 1 + nparts * n
-        self._objects = np.empty((3, self._nobj))
-        self._objects[:, :nl] = field.LANDMARK_POSITIONS.T
-        self._line_ends = np.ascontiguousarray(self._lines.reshape(-1, 3).T)
+        self._points = np.empty((self._nobj + 2 * len(self._lines), 3))
+        self._points[:nl] = field.LANDMARK_POSITIONS
+        self._points[self._nobj:] = self._lines.reshape(-1, 3)
         self._part_ids = world.part_ids.reshape(-1)
         # Per object column: for other players' parts, the player's side (True: left),
         # uniform number and part index (zeros for landmarks and the ball).
@@ -137,58 +104,37 @@ class VisionSensor:
         if m == 0:
             return {}
         nl = self._nl
-        objects = self._objects
-        objects[:, nl] = d.xpos[w.ball_body]
-        objects[:, nl + 1:] = d.xpos[self._part_ids].T
+        points = self._points
+        points[nl] = d.xpos[w.ball_body]
+        points[nl + 1:self._nobj] = d.xpos[self._part_ids]
         cam_ids = w.camera_ids[obs]
-        cam = d.site_xpos[cam_ids]  # (m, 3)
-        rot = d.site_xmat[cam_ids].reshape(-1, 3, 3)  # camera axes as columns
-        calib = self.calibration[obs]
-        # Camera-frame coordinates of every object for every observer, (p - cam) R +
-        # calibration, one (m, K) array per axis. The products and sums come in the
-        # order numpy's einsum takes them (as this code once did with einsum, 20x
-        # slower), so a seed still gives the same percepts to the last bit.
-        q = [[rot[:, j, i, None] for i in range(3)] for j in range(3)]
-        dx, dy, dz = (objects[j][None, :] - cam[:, j, None] for j in range(3))
-        x, y, z = (dx * q[0][i] + dy * q[1][i] + dz * q[2][i] + calib[:, i, None] for i in range(3))
-        seen = in_cone_xyz(x, y, z)
-        seen &= self._not_own[obs]  # a robot does not see its own parts
-        rows, cols = np.nonzero(seen)  # row-major: per observer, columns ascending
-        # Lines: end points in camera frames (p R - cam R + calibration), clipped to the cone.
-        e0, e1, e2 = self._line_ends
-        ends = np.stack([
-            e0 * q[0][i] + e1 * q[1][i] + e2 * q[2][i]
-            - (cam[:, 0] * q[0][i][:, 0] + cam[:, 1] * q[1][i][:, 0] + cam[:, 2] * q[2][i][:, 0])[:, None]
-            + calib[:, i, None] for i in range(3)], axis=-1).reshape(-1, 2, 3)  # (m * L, 2, 3)
-        a, b, vis = clip_segments(ends[:, 0], ends[:, 1])
-        n_seen = len(rows)
-        # Noise for the objects in view, then for every line's end points, in one draw.
-        seen_xyz = np.stack([x[rows, cols], y[rows, cols], z[rows, cols]], axis=-1)
-        noisy = self._noisy(to_polar(np.concatenate([seen_xyz, np.stack([a, b], axis=1).reshape(-1, 3)])))
-        line_pol = noisy[n_seen:].reshape(-1, 2, 3)[vis]  # (visible, 2, 3)
+        cols, pol, obj_end, line_pol, line_end = camera_views(
+            points, self._nobj, self._not_own[obs], d.site_xpos[cam_ids],
+            d.site_xmat[cam_ids].reshape(-1, 3, 3), self.calibration[obs], _T)
+        # Noise for the objects in view, then the visible lines' end points, in one draw.
+        n_seen = len(cols)
+        noisy = self._noisy(np.concatenate([pol, line_pol.reshape(-1, 3)]))
+        line_pol = noisy[n_seen:].reshape(-1, 2, 3)
         noisy = noisy[:n_seen]
-        # Per observer, its block of `rows` is [landmarks][ball?][players] (column order).
-        count = seen.sum(axis=1)
-        start = np.zeros(m + 1, dtype=np.intp)
-        np.cumsum(count, out=start[1:])
-        n_lm = seen[:, :nl].sum(axis=1)
-        has_ball = seen[:, nl]
-        line_start = np.zeros(m + 1, dtype=np.intp)
-        np.cumsum(vis.reshape(m, len(self._lines)).sum(axis=1), out=line_start[1:])
+        # Per observer, its block of objects is [landmarks][ball?][players] (column order).
+        rows = np.repeat(np.arange(m), np.diff(obj_end, prepend=0))
         ours = self._col_side[cols] == self._side_left[obs][rows]
         unum = self._col_unum[cols]
         part = self._col_part[cols]
         names = self._names
         col_list = cols.tolist()
         out: dict[int, Vision] = {}
-        for i, s, e, k, hb, l0, l1 in zip(
-                obs.tolist(), start[:-1].tolist(), start[1:].tolist(), n_lm.tolist(),
-                has_ball.tolist(), line_start[:-1].tolist(), line_start[1:].tolist()):
-            b0 = s + k
+        s = l0 = 0
+        for i, e, l1 in zip(obs.tolist(), obj_end.tolist(), line_end.tolist()):
+            b0 = s
+            while b0 < e and col_list[b0] < nl:
+                b0 += 1
+            hb = b0 < e and col_list[b0] == nl
             p0 = b0 + hb
             out[i] = Vision(
                 landmark_names=tuple([names[c] for c in col_list[s:b0]]), landmarks=noisy[s:b0],
                 ball=noisy[b0] if hb else None, lines=line_pol[l0:l1],
                 player_ours=ours[p0:e], player_unum=unum[p0:e], player_part=part[p0:e],
                 players=noisy[p0:e])
+            s, l0 = e, l1
         return out

@@ -20,6 +20,7 @@ import numpy as np
 from models import field, nao, robot, scene
 from models.messages import SEEN_PARTS
 from models.rules import CYCLE, PHYSICS_DT
+from server._kernels import ball_touchers
 
 
 @dataclass(frozen=True)
@@ -83,6 +84,7 @@ class World:
             ))
         self.geom_owner = geom_owner
         self.ball_geom = m.geom("ball").id
+        self._touch_buf = np.empty(64, dtype=np.int32)  # a ball touches a few geoms at once
         self.ball_body = m.body("ball").id
         ball_joint = m.joint("ball_x").id  # slides x, y, z then the ball joint: a free joint's layout
         self.ball_qpos = int(m.jnt_qposadr[ball_joint])
@@ -128,19 +130,9 @@ class World:
 
     def _ball_contacts(self) -> set[int]:
         """Players whose geoms are in contact with the ball now."""
-        d = self.data
-        n = d.ncon
-        if n == 0:
-            return set()
-        c = d.contact
-        g1, g2 = c.geom1, c.geom2
-        b = self.ball_geom
-        first = g1 == b
-        hit = first | (g2 == b)
-        if not hit.any():
-            return set()
-        owners = self.geom_owner[np.where(first, g2, g1)[hit]]  # the other geom of each pair
-        return {int(o) for o in owners if o >= 0}
+        c = self.data.contact
+        n = ball_touchers(c.geom1, c.geom2, self.ball_geom, self.geom_owner, self._touch_buf)
+        return set(self._touch_buf[:n].tolist()) if n else set()
 
     # --------------------------------------------------------------- ground truth
 
@@ -154,11 +146,11 @@ class World:
 
     def torso_positions(self) -> np.ndarray:
         """(n, 3) torso centers (m, world frame)."""
-        return self.data.xpos[self.torso_ids].copy()
+        return self.data.xpos[self.torso_ids]  # fancy indexing copies
 
     def torso_up(self) -> np.ndarray:
         """(n,) z component of each torso's up axis: 1 upright, 0 lying."""
-        return self.data.xmat[self.torso_ids, 8].copy()
+        return self.data.xmat[self.torso_ids, 8]  # fancy indexing copies
 
     def headings(self) -> np.ndarray:
         """(n,) yaw of each torso's x axis in the world frame (rad)."""

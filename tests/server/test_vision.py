@@ -9,7 +9,8 @@ from agent.posture import stand_pose
 from models import field
 from models.rules import VISION_SIGMA_HORIZONTAL, VISION_SIGMA_VERTICAL
 from models.scene import Lineup
-from server.vision import VisionSensor, clip_segments, in_cone, to_polar
+from server._kernels import camera_views
+from server.vision import VisionSensor, in_cone, to_polar
 from server.world import World
 from tests.server.helpers import far_away, place_standing, standing_match
 
@@ -80,15 +81,18 @@ def test_lines_are_clipped_to_the_cone(scene):
     assert (np.abs(v.lines[..., 2]) <= math.radians(60) + margin).all()
 
 
-def test_clip_segments_geometry():
+def test_lines_are_clipped_at_the_cone_planes():
+    """A camera at the origin looking along +x: a line across the view is cut where it
+    leaves the pyramid, one behind the camera is dropped, one inside is kept whole."""
     a = np.array([[1.0, -5.0, 0.0], [-1.0, 0.0, 0.0], [2.0, 0.1, 0.0]])
     b = np.array([[1.0, 5.0, 0.0], [-2.0, 0.0, 0.0], [3.0, -0.1, 0.0]])
-    ca, cb, vis = clip_segments(a, b)
-    assert vis.tolist() == [True, False, True]
+    points = np.stack([a, b], axis=1).reshape(-1, 3)
+    _, _, _, lines, line_end = camera_views(points, 0, np.ones((1, 0), dtype=bool), np.zeros((1, 3)),
+                                            np.eye(3)[None], np.zeros((1, 3)), math.tan(math.radians(60)))
+    assert line_end.tolist() == [2]  # the line behind the camera is not seen
     t = math.tan(math.radians(60))
-    assert ca[0] == pytest.approx([1.0, -t, 0.0])
-    assert cb[0] == pytest.approx([1.0, t, 0.0])
-    assert ca[2] == pytest.approx(a[2]) and cb[2] == pytest.approx(b[2])
+    assert lines[0] == pytest.approx(to_polar(np.array([[1.0, -t, 0.0], [1.0, t, 0.0]])))
+    assert lines[1] == pytest.approx(to_polar(np.stack([a[2], b[2]])))
 
 
 def test_each_view_is_the_same_seen_alone_or_together():
