@@ -12,7 +12,8 @@ Registered tasks (`TASKS`, built by `make_task(name, robot_type, **options)`):
 
 * ``go_to_target`` (Appendix A.1.3): the obstacle course of Figure A.1 as
   waypoint and stop phases, about 30 simulated seconds, learning the
-  go-to-target walk set.
+  go-to-target walk set; ``fall_penalty`` (utility lost per fall, default
+  UT's 5) weighs falls against speed.
 * ``sprint`` (A.1.4): the same course; the robot uses the "sprint" set when
   the target is within 15 degrees, "go_to_target" (frozen) otherwise.
 * ``walk_forward``: a stop phase, then walking straight forward for
@@ -166,6 +167,7 @@ class PhaseTask:
     mirror: bool = True
     yaw: float = math.pi
     recovery: str = "trainer"
+    fall_penalty: float = FALL_PENALTY
 
     def __post_init__(self) -> None:
         _check_recovery(self.recovery)
@@ -173,7 +175,7 @@ class PhaseTask:
     @property
     def worst(self) -> float:
         """Every phase fell: the penalty and more, per phase."""
-        return -2.0 * FALL_PENALTY * len(self.phases)
+        return -2.0 * self.fall_penalty * len(self.phases)
 
     @property
     def seconds(self) -> float:
@@ -190,15 +192,16 @@ class PhaseTask:
         sim = new_sim(self.robot_type, walk_sets(values), (START[0], START[1], heading), rng,
                       joint_noise=self.joint_noise, mirror=mirror, sprint_within=self.sprint_within)
         phases = [replace(p) for p in self.phases]  # fresh per-trial state
-        results = run_phases(sim, phases, self._recovery())
+        results = run_phases(sim, phases, self._recovery(), self.fall_penalty)
         fitness = float(sum(r.utility for r in results))
         return TrialResult(fitness, {"falls": sim.falls, "sim_seconds": round(sim.time, 2),
                                      "mirror": mirror, "set_cycles": dict(sim.agent.set_cycles)})
 
 
-def go_to_target(robot_type: int = 0, scale_time: float = 1.0, recovery: str = "trainer") -> PhaseTask:
+def go_to_target(robot_type: int = 0, scale_time: float = 1.0, recovery: str = "trainer",
+                 fall_penalty: float = FALL_PENALTY) -> PhaseTask:
     return PhaseTask("go_to_target", course_phases(GO_TO_TARGET_COURSE, scale_time), robot_type,
-                     recovery=recovery)
+                     recovery=recovery, fall_penalty=fall_penalty)
 
 
 def sprint(robot_type: int = 0, scale_time: float = 1.0, recovery: str = "trainer",

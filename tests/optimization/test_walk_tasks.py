@@ -56,6 +56,14 @@ def test_a_fall_costs_the_penalty_and_the_robot_is_up_for_the_next_phase():
     assert not res[1].fell and not s.fallen()
 
 
+def test_fall_penalty_option_is_what_a_fall_costs():
+    s = sim()
+    res = run_phases(s, [Topple(), StopPhase(0.5)], TrainerRecovery(), fall_penalty=15.0)
+    assert res[0].fell and res[0].utility == -15.0
+    heavy = make_task("go_to_target", fall_penalty=15.0)
+    assert heavy.fall_penalty == 15.0 and heavy.worst == 3 * make_task("go_to_target").worst
+
+
 def test_trials_are_deterministic_whatever_ran_before():
     task = make_task("walk_forward", seconds=0.6, stand=0.2)
     values = load_values(task.sets, 0)
