@@ -46,9 +46,10 @@ def in_cone(pol: np.ndarray) -> np.ndarray:
 class VisionSensor:
     """Vision for every player of a world, with fixed calibration errors.
 
-    One call of `see_all` computes every observer's view with a handful of numpy
-    operations over (observers x objects) arrays; each `Vision` then holds views
-    (slices) of those arrays, one disjoint block per observer.
+    One call of `see_all` computes every observer's view at once: the geometry in
+    one compiled loop (`server._kernels.camera_views`), the noise in one draw; each
+    `Vision` then holds views (slices) of those arrays, one disjoint block per
+    observer.
     """
 
     def __init__(self, world: World, rng: np.random.Generator) -> None:
