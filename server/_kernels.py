@@ -131,31 +131,34 @@ def ball_touchers(geom1: np.ndarray, geom2: np.ndarray, ball: int, owner: np.nda
 
 
 @_njit
-def fallen_rules(up: np.ndarray, z: np.ndarray, standing_z: np.ndarray, fallen: np.ndarray,
-                 down_since: np.ndarray, unsteady_since: np.ndarray, down_limit: np.ndarray,
-                 unsteady_limit: np.ndarray, now: float, thresholds: tuple[float, float, float],
-                 new_falls: np.ndarray, late: np.ndarray) -> tuple[int, int]:
+def fallen_rules(xpos: np.ndarray, xmat: np.ndarray, torso: np.ndarray, standing_z: np.ndarray,
+                 fallen: np.ndarray, down_since: np.ndarray, unsteady_since: np.ndarray,
+                 down_limit: np.ndarray, unsteady_limit: np.ndarray, now: float,
+                 thresholds: tuple[float, float, float], new_falls: np.ndarray,
+                 late: np.ndarray) -> tuple[int, int]:
     """The referee's fallen-player bookkeeping for one cycle, in place.
 
-    up: z of each torso's up axis; z: torso heights (m); thresholds: (down, up
-    again, standing) on `up`. Updates `fallen` (with hysteresis), `down_since` and
-    `unsteady_since` (s, NaN while up or standing); writes the players that fell
-    this cycle to `new_falls` and those down or not standing longer than their
-    limits to `late`. Returns how many of each.
+    xpos, xmat: MjData's body positions and orientations; torso: each player's torso
+    body; standing_z: torso heights (m) above which a player stands; thresholds:
+    (down, up again, standing) on the z of the torso's up axis. Updates `fallen`
+    (with hysteresis), `down_since` and `unsteady_since` (s, NaN while up or
+    standing); writes the players that fell this cycle to `new_falls` and those down
+    or not standing longer than their limits to `late`. Returns how many of each.
     """
     down_z, up_again_z, standing_up_z = thresholds
     nf = nl = 0
-    for i in range(up.shape[0]):
-        down = up[i] < down_z
+    for i in range(torso.shape[0]):
+        up = xmat[torso[i], 8]
+        down = up < down_z
         if down and not fallen[i]:
             new_falls[nf] = i
             nf += 1
-        fallen[i] = down or (fallen[i] and up[i] <= up_again_z)
+        fallen[i] = down or (fallen[i] and up <= up_again_z)
         if not down:
             down_since[i] = np.nan
         elif np.isnan(down_since[i]):
             down_since[i] = now
-        if up[i] > standing_up_z and z[i] > standing_z[i]:
+        if up > standing_up_z and xpos[torso[i], 2] > standing_z[i]:
             unsteady_since[i] = np.nan
         elif np.isnan(unsteady_since[i]):
             unsteady_since[i] = now
@@ -163,3 +166,27 @@ def fallen_rules(up: np.ndarray, z: np.ndarray, standing_z: np.ndarray, fallen: 
             late[nl] = i
             nl += 1
     return nf, nl
+
+
+@_njit
+def penalty_area_rules(xpos: np.ndarray, torso: np.ndarray, own_sign: np.ndarray,
+                       area: tuple[float, float, float], area_since: np.ndarray, now: float,
+                       inside: np.ndarray) -> int:
+    """Who is in their own penalty area, for the illegal-defense rule, in place.
+
+    area: (half field length, penalty area depth, penalty area half width), m;
+    own_sign: the sign of x in each player's own half. Sets `area_since` (s, NaN
+    while outside) and `inside`; returns how many players are inside.
+    """
+    half_length, depth, half_width = area
+    n = 0
+    for i in range(torso.shape[0]):
+        x, y = xpos[torso[i], 0], xpos[torso[i], 1]
+        inside[i] = abs(y) < half_width and x * own_sign[i] > half_length - depth and abs(x) <= half_length
+        if inside[i]:
+            n += 1
+            if np.isnan(area_since[i]):
+                area_since[i] = now
+        else:
+            area_since[i] = np.nan
+    return n

@@ -30,7 +30,7 @@ from models.rules import (
     PlayMode,
     restart,
 )
-from server._kernels import fallen_rules
+from server._kernels import fallen_rules, penalty_area_rules
 from server.world import World
 
 PM = PlayMode
@@ -98,6 +98,7 @@ class Referee:
                                         NOT_STANDING_REPOSITION_TIME)
         self._new_falls = np.empty(n, dtype=np.int64)  # players, written by fallen_rules
         self._late = np.empty(n, dtype=np.int64)
+        self._inside = np.zeros(n, dtype=bool)  # in the own penalty area, by penalty_area_rules
 
     # ------------------------------------------------------------------ helpers
 
@@ -283,14 +284,13 @@ class Referee:
 
     def _illegal_defense(self) -> None:
         w = self.world
-        pos = w.torso_positions()
-        x = pos[:, 0]
-        inside = (np.abs(pos[:, 1]) < field.PENALTY_WIDTH / 2) & (
-            x * self._own_sign > field.HALF_LENGTH - field.PENALTY_DEPTH) & (np.abs(x) <= field.HALF_LENGTH)
-        self.area_since[~inside] = np.nan
-        self.area_since[inside & np.isnan(self.area_since)] = w.time
-        if np.count_nonzero(inside) <= MAX_IN_PENALTY_AREA:  # the usual case
+        inside = self._inside
+        n = penalty_area_rules(w.data.xpos, w.torso_ids, self._own_sign,
+                               (field.HALF_LENGTH, field.PENALTY_DEPTH, field.PENALTY_WIDTH / 2),
+                               self.area_since, w.time, inside)
+        if n <= MAX_IN_PENALTY_AREA:  # the usual case
             return
+        pos = w.torso_positions()
         for team in ("L", "R"):
             idx = np.nonzero(inside & (w.side_of == team))[0]
             if len(idx) <= MAX_IN_PENALTY_AREA:
@@ -309,8 +309,8 @@ class Referee:
         d = w.data
         new_falls, late = self._new_falls, self._late
         nf, nl = fallen_rules(
-            d.xmat[w.torso_ids, 8], d.xpos[w.torso_ids, 2], self._standing_z, self.fallen,
-            self.down_since, self.unsteady_since, self._down_limit, self._unsteady_limit, w.time,
+            d.xpos, d.xmat, w.torso_ids, self._standing_z, self.fallen, self.down_since,
+            self.unsteady_since, self._down_limit, self._unsteady_limit, w.time,
             (DOWN_UP_Z, UP_AGAIN_Z, STANDING_UP_Z), new_falls, late)
         for i in new_falls[:nf].tolist():
             self.falls[self._team(i)] += 1
