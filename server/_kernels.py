@@ -194,3 +194,84 @@ def penalty_area_rules(xpos: np.ndarray, torso: np.ndarray, own_sign: np.ndarray
         else:
             area_since[i] = np.nan
     return n
+
+
+@_njit
+def _ray_hits_box(pos: np.ndarray, mat: np.ndarray, size: np.ndarray, origin: np.ndarray,
+                  direction: np.ndarray) -> bool:
+    """Whether the ray origin + t direction (t >= 0, world frame) meets the box of
+    half-sizes `size` centered at `pos` with axes the columns of `mat` (row-major 9)."""
+    t0, t1 = 0.0, math.inf
+    for a in range(3):
+        o = (mat[a] * (origin[0] - pos[0]) + mat[3 + a] * (origin[1] - pos[1])
+             + mat[6 + a] * (origin[2] - pos[2]))
+        v = mat[a] * direction[0] + mat[3 + a] * direction[1] + mat[6 + a] * direction[2]
+        if v == 0.0:
+            if abs(o) > size[a]:
+                return False
+            continue
+        lo, hi = (-size[a] - o) / v, (size[a] - o) / v
+        if lo > hi:
+            lo, hi = hi, lo
+        t0, t1 = max(t0, lo), min(t1, hi)
+        if t0 > t1:
+            return False
+    return True
+
+
+@_njit
+def body_sensors(xmat: np.ndarray, cvel: np.ndarray, qacc: np.ndarray, torso: np.ndarray,
+                 root_dof: np.ndarray, gravity: np.ndarray, geom_body: np.ndarray,
+                 con_geom: np.ndarray, con_pos: np.ndarray, con_frame: np.ndarray,
+                 con_efc: np.ndarray, con_dim: np.ndarray, efc_force: np.ndarray,
+                 sole_of_body: np.ndarray, sole_site: np.ndarray, site_xpos: np.ndarray,
+                 site_xmat: np.ndarray, site_size: np.ndarray, sole_slot: np.ndarray,
+                 out: np.ndarray) -> None:
+    """Every player's gyro, accelerometer and sole forces, as MuJoCo's gyro,
+    accelerometer and touch sensors give them, from the state of the last forward
+    pass (MjData as an `mj_step` leaves it: positions, velocities and contact forces
+    of the step's start), without MuJoCo's sensor stage.
+
+    The IMU site sits at the torso's origin with the torso's axes, so the gyro is
+    the torso's angular velocity (world `cvel`) in the torso frame and the
+    accelerometer the free joint's linear acceleration `qacc` (the origin's, world
+    frame) minus gravity, in the torso frame. A sole's force is the sum of the
+    normal forces (N) of its body's contacts whose ray along the normal, into the
+    body, meets the sole's site box (MuJoCo's touch rule); a pyramidal contact's
+    normal force is the sum of its facet forces.
+
+    out (n, 10), per player: gyro (rad/s), accelerometer (m/s^2), then sole forces
+    in `sole_slot` order (columns 6-9).
+    """
+    n = torso.shape[0]
+    for i in range(n):
+        b, r = torso[i], root_dof[i]
+        for a in range(3):
+            out[i, a] = xmat[b, a] * cvel[b, 0] + xmat[b, 3 + a] * cvel[b, 1] + xmat[b, 6 + a] * cvel[b, 2]
+            out[i, 3 + a] = (xmat[b, a] * (qacc[r] - gravity[0]) + xmat[b, 3 + a] * (qacc[r + 1] - gravity[1])
+                             + xmat[b, 6 + a] * (qacc[r + 2] - gravity[2]))
+        for c in range(6, out.shape[1]):
+            out[i, c] = 0.0
+    ray = np.empty(3)
+    for k in range(con_geom.shape[0]):
+        adr = con_efc[k]
+        if adr < 0:
+            continue
+        for side in range(2):
+            s = sole_of_body[geom_body[con_geom[k, side]]]
+            if s < 0:
+                continue
+            dim = con_dim[k]
+            f = efc_force[adr]
+            if dim > 1:
+                for j in range(1, 2 * (dim - 1)):
+                    f += efc_force[adr + j]
+            if f <= 0.0:
+                break
+            sign = 1.0 if side == 0 else -1.0  # the normal points from geom 0 to geom 1
+            norm = math.sqrt(con_frame[k, 0] ** 2 + con_frame[k, 1] ** 2 + con_frame[k, 2] ** 2)
+            for a in range(3):
+                ray[a] = sign * con_frame[k, a] / norm
+            site = sole_site[s]
+            if _ray_hits_box(site_xpos[site], site_xmat[site], site_size[site], con_pos[k], ray):
+                out[sole_slot[s, 0], 6 + sole_slot[s, 1]] += f

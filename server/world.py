@@ -36,7 +36,7 @@ class PlayerIndex:
     joint_qpos: np.ndarray  # qpos addresses of the hinges, league order
     joint_qvel: np.ndarray
     actuators: np.ndarray  # actuator ids, league order
-    sensors: np.ndarray  # sensordata addresses: gyro (3), accelerometer (3), soles (2 or 4)
+    sensors: np.ndarray  # sensordata addresses of MuJoCo's gyro (3), accelerometer (3), soles (2 or 4)
     torso: int  # body id
     camera: int  # site id
     parts: np.ndarray  # body ids of SEEN_PARTS
@@ -97,6 +97,9 @@ class World:
         self.heights = np.array([nao.standing_height(p.robot_type) for p in self.players])
         self.time = 0.0
         self._touching: set[int] = set()  # players in contact with the ball after the last substep
+        # MuJoCo's sensor stage stays off: `server.sensors.Proprioception` computes the
+        # same readings from MjData once a cycle, several times cheaper.
+        m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_SENSOR)
         mujoco.mj_forward(m, self.data)
 
     # ------------------------------------------------------------------ physics
@@ -111,14 +114,7 @@ class World:
         np.copyto(d.ctrl, ctrl)
         touches: list[int] = []
         touching = self._touching
-        # Sensors are read once a cycle, so MuJoCo computes them only in the last
-        # substep (they then describe the state 5 ms before the cycle's end, as
-        # SimSpark's describe its last physics step). This saves about 30 %.
-        bit = int(mujoco.mjtDisableBit.mjDSBL_SENSOR)
-        sensor_off = m.opt.disableflags | bit
-        sensor_on = m.opt.disableflags & ~bit
-        for k in range(self.substeps):
-            m.opt.disableflags = sensor_on if k == self.substeps - 1 else sensor_off
+        for _ in range(self.substeps):
             mujoco.mj_step(m, d)
             now = self._ball_contacts()
             for i in sorted(now - touching):
