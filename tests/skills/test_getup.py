@@ -129,9 +129,13 @@ def get_up(robot_type: int, lying: str, seed: int, limit: float = 3.0) -> float 
 @pytest.mark.parametrize("robot_type", [0, 1, 2, 3, 4])
 @pytest.mark.parametrize("lying", ["front", "back"])
 def test_gets_up(robot_type, lying):
-    took = get_up(robot_type, lying, seed=robot_type)
-    assert took is not None, f"type {robot_type} did not get up from the {lying}"
-    assert took < 3.0
+    """Two of three seeded tries up within 3 s. The getups stand within 3 s in 95-97% of
+    the getup benchmark's tries (700 per side over all types), so one try in 25 fails;
+    a getup that works half the time fails this test with probability 1/2."""
+    took = [get_up(robot_type, lying, seed=10 * robot_type + k) for k in range(3)]
+    up = [t for t in took if t is not None]
+    assert len(up) >= 2, f"type {robot_type} got up from the {lying} in {len(up)} of 3 tries"
+    assert max(up) < 3.0
 
 
 def test_upright_robot_plays_no_getup():
