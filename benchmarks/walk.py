@@ -4,7 +4,9 @@ In physics, from standing, the robot's control reads only its percepts
 (`skills.motion.Motion`); the benchmark reads ground truth to measure. One
 JSON line per robot type:
 
-* forward, backward, sideways speed (m/s) and turning rate (deg/s) over 10 s;
+* forward, backward, sideways speed (m/s) and turning rate (deg/s) over 10 s with
+  the go-to-target walk set, and forward speed with the sprint set (what a robot
+  walks when its target lies straight ahead);
 * the go-to-target course (waypoints and stops modeled on Figure A.1: long
   straight walks, a curve, quick direction changes, stop and go, a spiral),
   walked by dead reckoning on the walk's own odometry: falls, time, how far
@@ -66,8 +68,10 @@ def fallen(tr: Trainer) -> bool:
     return bool(tr.world.torso_up()[0] < 0.5)
 
 
-def constant_walk(t: int, cmd: tuple[float, float, float], seconds: float) -> dict:
-    """Walk with fixed inputs; speed along x, y (m/s) and turning (deg/s) in the start frame."""
+def constant_walk(t: int, cmd: tuple[float, float, float], seconds: float,
+                  set_name: str = "go_to_target") -> dict:
+    """Walk with fixed inputs and walk set; speed along x, y (m/s) and turning (deg/s) in
+    the start frame."""
     tr, mo = new_robot(t)
     for _ in range(25):  # stand 0.5 s
         tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0))})
@@ -76,7 +80,7 @@ def constant_walk(t: int, cmd: tuple[float, float, float], seconds: float) -> di
     prev = h0
     n = round(seconds / 0.02)
     for k in range(n):
-        tr.step({0: Action(mo.walk_step(tr.percepts()[0], *cmd))})
+        tr.step({0: Action(mo.walk_step(tr.percepts()[0], *cmd, set_name))})
         h = tr.world.player_pose(0)[2]
         heading_total += wrap(h - prev)
         prev = h
@@ -160,10 +164,13 @@ def main() -> None:
             back = constant_walk(t, (-1.0, 0.0, 0.0), args.seconds)
             side = constant_walk(t, (0.0, 1.0, 0.0), args.seconds)
             turn = constant_walk(t, (0.0, 0.0, 1.0), args.seconds)
+            sprint = constant_walk(t, (1.0, 0.0, 0.0), args.seconds, "sprint")
             row.update({
-                "forward_m_s": round(fwd["vx"], 3), "backward_m_s": round(-back["vx"], 3),
+                "forward_m_s": round(fwd["vx"], 3), "sprint_forward_m_s": round(sprint["vx"], 3),
+                "backward_m_s": round(-back["vx"], 3),
                 "sideways_m_s": round(side["vy"], 3), "turn_deg_s": round(turn["turn_deg_s"], 1),
-                "falls_in_speed_runs": sum(r["fell"] for r in (fwd, back, side, turn))})
+                "falls_in_speed_runs": sum(r["fell"] for r in (fwd, back, side, turn)),
+                "sprint_fell": sprint["fell"]})
         rng = np.random.default_rng(t)
         runs = [course(t, rng=None if k == 0 else rng) for k in range(max(1, args.course_runs))]
         row["course"] = runs[0] if len(runs) == 1 else {

@@ -1,6 +1,7 @@
 """The server's hot loops, compiled with numba: the vision model's geometry, the
-search of the contact list for ball touches, and the referee's per-cycle
-bookkeeping of fallen players and crowded penalty areas.
+search of the contact list for ball touches, the body sensors (gyro,
+accelerometer, sole forces) and the referee's per-cycle bookkeeping of fallen
+players and crowded penalty areas.
 
 All are plain loops over small arrays, run every (vision) cycle or substep, where
 numpy's per-call cost dominated: the array version of the vision geometry took

@@ -17,10 +17,10 @@ def test_vector_maps_to_named_values_in_file_units():
     assert base["go_to_target"]["walk_height"] == pytest.approx(height)
     space = ParamSpace.build(base, {"sprint": ("walk_height", "phase_length")})
     assert space.keys == (("sprint", "walk_height"), ("sprint", "phase_length"))
-    v = space.values(np.array([1.0, -1.0]))
+    v = space.values(np.array([1.0, 0.5]))  # type 0's sprint phase_length lies 0.01 s above its bound
     spec_h, spec_p = param_set("sprint").spec("walk_height"), param_set("sprint").spec("phase_length")
     assert v["sprint"]["walk_height"] == pytest.approx(height + spec_h.sigma)
-    assert v["sprint"]["phase_length"] == pytest.approx(base["sprint"]["phase_length"] - spec_p.sigma)
+    assert v["sprint"]["phase_length"] == pytest.approx(base["sprint"]["phase_length"] + 0.5 * spec_p.sigma)
     assert v["go_to_target"] == base["go_to_target"]  # frozen set untouched
     assert space.named(np.zeros(2)) == pytest.approx({"sprint_walk_height": height,
                                                       "sprint_phase_length": base["sprint"]["phase_length"]})
