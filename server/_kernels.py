@@ -40,25 +40,41 @@ def _polar(x: float, y: float, z: float, out: np.ndarray, k: int) -> None:
 
 
 @_njit
+def _noisy(pol: np.ndarray, k: int, noise: np.ndarray, j: int, sigma: np.ndarray) -> None:
+    """Row k of `pol` (distance, horizontal, vertical) with noise: the distance times
+    (1 + sigma[0] n0), the angles plus sigma[1] n1 and sigma[2] n2, n = noise[j:j + 3]."""
+    pol[k, 0] *= 1.0 + sigma[0] * noise[j]
+    pol[k, 1] += sigma[1] * noise[j + 1]
+    pol[k, 2] += sigma[2] * noise[j + 2]
+
+
+@_njit
 def camera_views(points: np.ndarray, nobj: int, not_own: np.ndarray, cam: np.ndarray,
-                 rot: np.ndarray, calib: np.ndarray, tan_half: float):
-    """What m cameras see of `points` (P, 3; world frame): the first `nobj` rows are
-    objects, the rest field-line end points in pairs (a0, b0, a1, b1, ...).
+                 rot: np.ndarray, calib: np.ndarray, tan_half: float, noise: np.ndarray,
+                 start: int, sigma: np.ndarray, cam_left: np.ndarray, obj_left: np.ndarray):
+    """What m cameras see of `points` (P, 3; world frame), with noise: the first
+    `nobj` rows are objects, the rest field-line end points in pairs (a0, b0, a1, b1, ...).
 
     cam (m, 3) camera positions, rot (m, 3, 3) camera axes as columns, calib (m, 3)
-    calibration offsets (camera frame), not_own (m, nobj) objects each camera may see.
+    calibration offsets (camera frame), not_own (m, nobj) objects each camera may see,
+    cam_left (m,) and obj_left (nobj,) the sides (True: left) of each camera and object.
+    noise: standard normal draws, used in order from index `start`, three per polar
+    point seen (`_noisy`, relative sigma on distance, sigmas in rad on the angles).
 
-    Returns (obj_col, obj_pol, obj_end, line_pol, line_end): for each camera in
-    turn, the columns of the objects inside the cone (ascending) and their polar
-    coordinates (distance m, horizontal and vertical angle rad); then the visible
-    parts of the lines clipped to the cone, (n, 2, 3) polar. The ends are cumulative:
-    camera i's objects are rows obj_end[i - 1]:obj_end[i] (0 for i = 0), its lines likewise.
+    Returns (obj_col, obj_pol, obj_ours, obj_end, line_pol, line_end, used): for each
+    camera in turn, the columns of the objects inside the cone (ascending), their noisy
+    polar coordinates (distance m, horizontal and vertical angle rad) and whether the
+    object's side is the camera's; then the
+    visible parts of the lines clipped to the cone, (n, 2, 3) polar. The ends are
+    cumulative: camera i's objects are rows obj_end[i - 1]:obj_end[i] (0 for i = 0),
+    its lines likewise. `used`: how many noise draws were taken.
     """
     m = cam.shape[0]
     nlines = (points.shape[0] - nobj) // 2
     t2 = tan_half * tan_half
     obj_col = np.empty(m * nobj, np.int64)
     obj_pol = np.empty((m * nobj, 3))
+    obj_ours = np.empty(m * nobj, np.bool_)
     obj_end = np.zeros(m, np.int64)
     line_pol = np.empty((m * nlines, 2, 3))
     line_end = np.zeros(m, np.int64)
@@ -66,6 +82,7 @@ def camera_views(points: np.ndarray, nobj: int, not_own: np.ndarray, cam: np.nda
     f = np.empty((2, 4))
     n = 0
     nl = 0
+    u = start
     for i in range(m):
         r = rot[i]
         cx, cy, cz = cam[i, 0], cam[i, 1], cam[i, 2]
@@ -78,7 +95,10 @@ def camera_views(points: np.ndarray, nobj: int, not_own: np.ndarray, cam: np.nda
             z = dx * r[0, 2] + dy * r[1, 2] + dz * r[2, 2] + calib[i, 2]
             if abs(y) <= tan_half * x and z * z <= t2 * (x * x + y * y):
                 obj_col[n] = k
+                obj_ours[n] = obj_left[k] == cam_left[i]
                 _polar(x, y, z, obj_pol, n)
+                _noisy(obj_pol, n, noise, u, sigma)
+                u += 3
                 n += 1
         obj_end[i] = n
         for j in range(nlines):
@@ -111,9 +131,11 @@ def camera_views(points: np.ndarray, nobj: int, not_own: np.ndarray, cam: np.nda
                 y = ends[0, 1] + t * (ends[1, 1] - ends[0, 1])
                 z = ends[0, 2] + t * (ends[1, 2] - ends[0, 2])
                 _polar(x, y, z, line_pol[nl], e)
+                _noisy(line_pol[nl], e, noise, u, sigma)
+                u += 3
             nl += 1
         line_end[i] = nl
-    return obj_col[:n], obj_pol[:n], obj_end, line_pol[:nl], line_end
+    return obj_col[:n], obj_pol[:n], obj_ours[:n], obj_end, line_pol[:nl], line_end, u - start
 
 
 @_njit

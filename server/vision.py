@@ -29,6 +29,7 @@ from server.world import World
 
 HALF_CONE = VIEW_CONE / 2
 _T = math.tan(HALF_CONE)
+NOISE_POOL = 1 << 17  # standard normal draws per refill of the noise pool
 
 
 def to_polar(rel: np.ndarray) -> np.ndarray:
@@ -46,8 +47,9 @@ def in_cone(pol: np.ndarray) -> np.ndarray:
 class VisionSensor:
     """Vision for every player of a world, with fixed calibration errors.
 
-    One call of `see_all` computes every observer's view at once: the geometry in
-    one compiled loop (`server._kernels.camera_views`), the noise in one draw; each
+    One call of `see_all` computes every observer's view at once, geometry and
+    noise in one compiled loop (`server._kernels.camera_views`), the noise taken in
+    order from a pool of standard normal draws of the seeded `rng`; each
     `Vision` then holds views (slices) of those arrays, one disjoint block per
     observer.
     """
@@ -89,12 +91,17 @@ class VisionSensor:
         own[owner, nl + 1 + np.arange(nparts * n)] = True
         self._not_own = ~own
         self._everyone = np.arange(n)
+        self._pool = np.empty(0)  # standard normal draws for the noise, used in order
+        self._used = 0
+        self._most = 3 * (self._nobj + 2 * len(self._lines))  # draws one observer may need
 
-    def _noisy(self, pol: np.ndarray) -> np.ndarray:
-        noise = self.rng.standard_normal(pol.shape) * self.sigma
-        out = pol + noise
-        out[..., 0] = pol[..., 0] * (1.0 + noise[..., 0])
-        return out
+    def _noise_from(self, need: int) -> int:
+        """Where the next `need` draws start in the noise pool, refilled from `rng`
+        (in blocks of NOISE_POOL: one big draw costs less than many small ones)."""
+        if self._used + need > len(self._pool):
+            self._pool = self.rng.standard_normal(max(NOISE_POOL, need))
+            self._used = 0
+        return self._used
 
     def see_all(self, observers: list[int] | None = None) -> dict[int, Vision]:
         """Vision percepts of the given players (all by default), computed together."""
@@ -109,17 +116,13 @@ class VisionSensor:
         points[nl] = d.xpos[w.ball_body]
         points[nl + 1:self._nobj] = d.xpos[self._part_ids]
         cam_ids = w.camera_ids[obs]
-        cols, pol, obj_end, line_pol, line_end = camera_views(
+        start = self._noise_from(m * self._most)
+        cols, noisy, ours, obj_end, line_pol, line_end, used = camera_views(
             points, self._nobj, self._not_own[obs], d.site_xpos[cam_ids],
-            d.site_xmat[cam_ids].reshape(-1, 3, 3), self.calibration[obs], _T)
-        # Noise for the objects in view, then the visible lines' end points, in one draw.
-        n_seen = len(cols)
-        noisy = self._noisy(np.concatenate([pol, line_pol.reshape(-1, 3)]))
-        line_pol = noisy[n_seen:].reshape(-1, 2, 3)
-        noisy = noisy[:n_seen]
+            d.site_xmat[cam_ids].reshape(-1, 3, 3), self.calibration[obs], _T,
+            self._pool, start, self.sigma, self._side_left[obs], self._col_side)
+        self._used += used
         # Per observer, its block of objects is [landmarks][ball?][players] (column order).
-        rows = np.repeat(np.arange(m), np.diff(obj_end, prepend=0))
-        ours = self._col_side[cols] == self._side_left[obs][rows]
         unum = self._col_unum[cols]
         part = self._col_part[cols]
         names = self._names

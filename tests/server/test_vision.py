@@ -87,9 +87,12 @@ def test_lines_are_clipped_at_the_cone_planes():
     a = np.array([[1.0, -5.0, 0.0], [-1.0, 0.0, 0.0], [2.0, 0.1, 0.0]])
     b = np.array([[1.0, 5.0, 0.0], [-2.0, 0.0, 0.0], [3.0, -0.1, 0.0]])
     points = np.stack([a, b], axis=1).reshape(-1, 3)
-    _, _, _, lines, line_end = camera_views(points, 0, np.ones((1, 0), dtype=bool), np.zeros((1, 3)),
-                                            np.eye(3)[None], np.zeros((1, 3)), math.tan(math.radians(60)))
+    _, _, _, _, lines, line_end, used = camera_views(
+        points, 0, np.ones((1, 0), dtype=bool), np.zeros((1, 3)), np.eye(3)[None], np.zeros((1, 3)),
+        math.tan(math.radians(60)), np.ones(18), 0, np.zeros(3),  # zero sigma: no noise
+        np.ones(1, dtype=bool), np.ones(0, dtype=bool))
     assert line_end.tolist() == [2]  # the line behind the camera is not seen
+    assert used == 12  # three draws per end point seen
     t = math.tan(math.radians(60))
     assert lines[0] == pytest.approx(to_polar(np.array([[1.0, -t, 0.0], [1.0, t, 0.0]])))
     assert lines[1] == pytest.approx(to_polar(np.stack([a[2], b[2]])))
