@@ -139,16 +139,16 @@ def camera_views(points: np.ndarray, nobj: int, not_own: np.ndarray, cam: np.nda
 
 
 @_njit
-def ball_touchers(geom1: np.ndarray, geom2: np.ndarray, ball: int, owner: np.ndarray,
-                  out: np.ndarray) -> int:
+def ball_touchers(geom: np.ndarray, ball: int, owner: np.ndarray, out: np.ndarray) -> int:
     """Owners (player indices, `owner[geom]` >= 0) of the geoms in contact with geom
-    `ball`, one per contact, written to `out` (at most its length); returns how many."""
+    `ball` (geom: MjData's contact geom pairs, (ncon, 2)), one per contact, written to
+    `out` (at most its length); returns how many."""
     n = 0
-    for k in range(geom1.shape[0]):
-        if geom1[k] == ball:
-            o = owner[geom2[k]]
-        elif geom2[k] == ball:
-            o = owner[geom1[k]]
+    for k in range(geom.shape[0]):
+        if geom[k, 0] == ball:
+            o = owner[geom[k, 1]]
+        elif geom[k, 1] == ball:
+            o = owner[geom[k, 0]]
         else:
             continue
         if o >= 0 and n < out.shape[0]:

@@ -114,21 +114,17 @@ class World:
         np.copyto(d.ctrl, ctrl)
         touches: list[int] = []
         touching = self._touching
+        buf, ball, owner = self._touch_buf, self.ball_geom, self.geom_owner
         for _ in range(self.substeps):
             mujoco.mj_step(m, d)
-            now = self._ball_contacts()
-            for i in sorted(now - touching):
-                touches.append(i)
-            touching = now
+            n = ball_touchers(d.contact.geom, ball, owner, buf)
+            if n or touching:  # usually nobody touches the ball: no sets to build
+                now = set(buf[:n].tolist())
+                touches.extend(sorted(now - touching))
+                touching = now
         self._touching = touching
         self.time += self.substeps * m.opt.timestep
         return touches
-
-    def _ball_contacts(self) -> set[int]:
-        """Players whose geoms are in contact with the ball now."""
-        c = self.data.contact
-        n = ball_touchers(c.geom1, c.geom2, self.ball_geom, self.geom_owner, self._touch_buf)
-        return set(self._touch_buf[:n].tolist()) if n else set()
 
     # --------------------------------------------------------------- ground truth
 
