@@ -98,7 +98,7 @@ class World:
         self.time = 0.0
         self._touching: set[int] = set()  # players in contact with the ball after the last substep
         # MuJoCo's sensor stage stays off: `server.sensors.Proprioception` computes the
-        # same readings from MjData once a cycle, several times cheaper.
+        # same readings from MjData once a cycle, for less.
         m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_SENSOR)
         mujoco.mj_forward(m, self.data)
 
