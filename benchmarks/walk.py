@@ -5,8 +5,8 @@ In physics, from standing, the robot's control reads only its percepts
 JSON line per robot type:
 
 * forward, backward, sideways speed (m/s) and turning rate (deg/s) over 10 s with
-  the go-to-target walk set, and forward speed with the sprint set (what a robot
-  walks when its target lies straight ahead);
+  the go-to-target walk set, and forward speed with the sprint set (UT's set for
+  a target straight ahead, dissertation A.1.4);
 * the go-to-target course (waypoints and stops modeled on Figure A.1: long
   straight walks, a curve, quick direction changes, stop and go, a spiral),
   walked by dead reckoning on the walk's own odometry: falls, time, how far
