@@ -64,10 +64,10 @@ def camera_views(points: np.ndarray, nobj: int, not_own: np.ndarray, cam: np.nda
     Returns (obj_col, obj_pol, obj_ours, obj_end, line_pol, line_end, used): for each
     camera in turn, the columns of the objects inside the cone (ascending), their noisy
     polar coordinates (distance m, horizontal and vertical angle rad) and whether the
-    object's side is the camera's; then the
-    visible parts of the lines clipped to the cone, (n, 2, 3) polar. The ends are
-    cumulative: camera i's objects are rows obj_end[i - 1]:obj_end[i] (0 for i = 0),
-    its lines likewise. `used`: how many noise draws were taken.
+    object's side is the camera's; then the visible parts of the lines clipped to the
+    cone, (n, 2, 3) polar. The ends are cumulative: camera i's objects are rows
+    obj_end[i - 1]:obj_end[i] (0 for i = 0), its lines likewise. `used`: how many
+    noise draws were taken.
     """
     m = cam.shape[0]
     nlines = (points.shape[0] - nobj) // 2
@@ -280,17 +280,19 @@ def body_sensors(xmat: np.ndarray, cvel: np.ndarray, qacc: np.ndarray, torso: np
         adr = con_efc[k]
         if adr < 0:
             continue
+        s0 = sole_of_body[geom_body[con_geom[k, 0]]]
+        s1 = sole_of_body[geom_body[con_geom[k, 1]]]
+        if s0 < 0 and s1 < 0:
+            continue
+        f = efc_force[adr]
+        for j in range(1, 2 * (con_dim[k] - 1)):  # none for a frictionless contact
+            f += efc_force[adr + j]
+        if f <= 0.0:
+            continue
         for side in range(2):
-            s = sole_of_body[geom_body[con_geom[k, side]]]
+            s = s0 if side == 0 else s1
             if s < 0:
                 continue
-            dim = con_dim[k]
-            f = efc_force[adr]
-            if dim > 1:
-                for j in range(1, 2 * (dim - 1)):
-                    f += efc_force[adr + j]
-            if f <= 0.0:
-                break
             sign = 1.0 if side == 0 else -1.0  # the normal points from geom 0 to geom 1
             norm = math.sqrt(con_frame[k, 0] ** 2 + con_frame[k, 1] ** 2 + con_frame[k, 2] ** 2)
             for a in range(3):
