@@ -36,7 +36,7 @@ from models.rules import CYCLE
 from models.scene import Lineup
 from server.trainer import Trainer
 from skills.control import JointPid
-from skills.falls import GETUP_FILES, GETUP_PARAMS, Getup
+from skills.falls import GETUP_FILES, Getup, getup_param_paths
 from skills.motion import Motion
 from skills.params import UNITS, load_params
 from skills.skill import Skill, read_skills, skill_path
@@ -84,16 +84,18 @@ def getup_param_set(set_name: str) -> ParamSetDef:
 
 
 def getup_param_files(robot_type: int) -> list[str]:
-    """The shipped getup parameter files (the same for every robot type)."""
-    return [skill_path(p) for p in GETUP_PARAMS]
+    """The shipped getup parameter files of a robot type (`skills.falls.getup_param_paths`)."""
+    return getup_param_paths(robot_type)
 
 
-def getup_skills(values: Mapping[str, Mapping[str, float]]) -> dict[str, Skill]:
-    """The getup and roll skills bound to the shipped parameters, overridden by `values`
-    (``{"getup_front": {"k1_arm": deg, ...}, ...}``, file units) where given."""
+def getup_skills(values: Mapping[str, Mapping[str, float]],
+                 robot_type: int | None = None) -> dict[str, Skill]:
+    """The getup and roll skills bound to the shipped parameters of `robot_type`,
+    overridden by `values` (``{"getup_front": {"k1_arm": deg, ...}, ...}``, file
+    units) where given."""
     sources = [read_skills(skill_path(name)) for name in GETUP_FILES]
     schema = getup_schema()
-    params = load_params([skill_path(p) for p in GETUP_PARAMS], schema)
+    params = load_params(getup_param_paths(robot_type), schema)
     for set_name, vals in values.items():
         if set_name not in SIDES:
             continue
@@ -177,7 +179,7 @@ class GetupTask:
             pc = trainer.percepts()[0]
             trainer.step({0: Action(motion.command(q0, pc))})
         motion.reset()
-        getup = Getup(robot_type, getup_skills(values))
+        getup = Getup(robot_type, getup_skills(values, robot_type))
         pid = JointPid.for_robot(robot_type)
         if self.controller == "motion":
             motion.getup = getup

@@ -14,6 +14,7 @@ robot lands on its front or back, never on its side).
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -90,15 +91,29 @@ class FallDetector:
 
 GETUP_FILES = ("getup_front.skl", "getup_back.skl", "roll.skl")  # in skills/data/
 GETUP_PARAMS = ("getup.params",)  # in skills/data/: tuned values of the getups' $parameters
+GETUP_TYPE_PARAMS = "getup_type{}.params"  # in skills/data/, if present: one robot type's overrides
 SKILL_FOR = {FRONT: "GETUP_FRONT", BACK: "GETUP_BACK", LEFT: "ROLL_LEFT", RIGHT: "ROLL_RIGHT"}
 
 
-def load_getup_skills(param_paths: Iterable[PathLike] = ()) -> dict[str, Skill]:
+def getup_param_paths(robot_type: int | None = None) -> list[str]:
+    """The shipped getup parameter files: ``getup.params`` (every type), then
+    ``getup_type<T>.params`` where robot type T has its own values."""
+    paths = [skill_path(p) for p in GETUP_PARAMS]
+    if robot_type is not None:
+        typed = skill_path(GETUP_TYPE_PARAMS.format(robot_type))
+        if os.path.exists(typed):
+            paths.append(typed)
+    return paths
+
+
+def load_getup_skills(param_paths: Iterable[PathLike] = (),
+                      robot_type: int | None = None) -> dict[str, Skill]:
     """The getup and roll skills of `skills/data/`.
 
-    Their ``$parameters`` come from ``skills/data/getup.params``, then from
-    `param_paths` (later files override earlier ones; e.g. a CMA-ES result).
-    One schema covers all the files, so one parameter file may tune them all.
+    Their ``$parameters`` come from `getup_param_paths` (``getup.params``, then
+    the robot type's own file if it has one), then from `param_paths` (later
+    files override earlier ones; e.g. a CMA-ES result). One schema covers all
+    the files, so one parameter file may tune them all.
     """
     sources = [read_skills(skill_path(name)) for name in GETUP_FILES]
     schema: dict[str, str] = {}
@@ -106,8 +121,7 @@ def load_getup_skills(param_paths: Iterable[PathLike] = ()) -> dict[str, Skill]:
         for name, unit in src.schema.items():
             if schema.setdefault(name, unit) != unit:
                 raise ValueError(f"getup parameter {name} is used as both {schema[name]} and {unit}")
-    paths = [skill_path(p) for p in GETUP_PARAMS] + list(param_paths)
-    params = load_params(paths, schema)
+    params = load_params(getup_param_paths(robot_type) + list(param_paths), schema)
     out: dict[str, Skill] = {}
     for src in sources:
         out.update(src.bind(params))
@@ -126,7 +140,7 @@ class Getup:
 
     def __init__(self, robot_type: int, skills: dict | None = None,
                  detector: FallDetector | None = None) -> None:
-        skills = skills or load_getup_skills()
+        skills = skills or load_getup_skills(robot_type=robot_type)
         self.players = {side: SkillPlayer(skills[name], robot_type) for side, name in SKILL_FOR.items()}
         self.detector = detector or FallDetector()
         self.active = None  # the side whose skill plays

@@ -33,6 +33,29 @@ def test_a_learned_file_loads_as_getup_parameters(tmp_path):
     assert skills["GETUP_FRONT"].keyframes[2].set["llj3"] == pytest.approx(77.0 * UNITS["deg"])
 
 
+def test_a_robot_types_own_file_overrides_the_shared_values_for_that_type_only():
+    from skills.falls import getup_param_paths
+    from skills.params import read_entries
+    from skills.skill import skill_path
+
+    shared = load_values(["getup_front", "getup_back"], 1)  # type 1 has no file of its own
+    typed = [t for t in range(5) if len(getup_param_paths(t)) == 2]
+    assert typed, "no robot type ships getup_type<T>.params"
+    for t in typed:
+        own = load_values(["getup_front", "getup_back"], t)  # the optimizer starts from these
+        file_names = set(read_entries(getup_param_paths(t)[1]))
+        for name, prefix in (("getup_front", "front_"), ("getup_back", "back_")):
+            for n, v in own[name].items():
+                if prefix + n in file_names:  # what the type's file sets, it overrides
+                    continue
+                assert v == shared[name][n]  # the rest is shared
+        assert any(own[s] != shared[s] for s in own)
+        skills = load_getup_skills(robot_type=t)  # what Getup(t) plays
+        assert any(skills[k].keyframes != load_getup_skills(robot_type=1)[k].keyframes
+                   for k in ("GETUP_FRONT", "GETUP_BACK"))
+    assert getup_param_paths(1) == [skill_path("getup.params")]
+
+
 def broken(name: str) -> dict:
     """Every pose angle 0 and every wait at its lower bound: the robot never gets up."""
     vals = load_values([name], 0)
