@@ -5,7 +5,8 @@ lying (`World.place_robot(..., lying=...)`) at a random heading with randomly
 perturbed joint angles (seeded), held 0.5 s to settle, then driven only by
 `skills.falls.Getup` through its percepts. Success: within `--limit` seconds
 the torso's up-vector z exceeds 0.9 and its height 0.8 x the stand height, and
-both still hold after standing 1 s more. Time is when that first held.
+both still hold after standing 1 s more. Time is when that first held. Each rate comes with its 95% interval
+(`benchmarks.stats.rate_ci`).
 Prints one JSON line per robot type.
 
     python benchmarks/getup.py [--types 0 1 2 3 4] [--tries 20] [--seed 0]
@@ -21,6 +22,7 @@ import time
 
 import numpy as np
 
+from benchmarks.stats import rate_ci
 from models import nao
 from models.scene import Lineup
 from server.sensors import Proprioception
@@ -104,6 +106,7 @@ def getup_stats(robot_type: int, tries: int = 20, seed: int = 0, limit: float = 
         times = [attempt(world, robot_type, side, rng, limit) for _ in range(tries)]
         ok = [x for x in times if x is not None]
         row[f"{side}_success"] = len(ok) / tries
+        row[f"{side}_success_ci95"] = rate_ci(len(ok), tries)
         row[f"{side}_mean_time_s"] = round(float(np.mean(ok)), 3) if ok else None
     row["wall_s"] = round(time.perf_counter() - wall, 1)
     return row

@@ -8,7 +8,8 @@ toward a target in a random direction), driven by `agent.kicker.Kicker` from
 percepts alone. Success: the ball moved at least 1 m toward the target and the
 robot did not fall. Distance: the ball's travel to its stop; direction error:
 its travel direction against the target's; time to contact: from the start
-of the trial to the kicking robot's first touch.
+of the trial to the kicking robot's first touch. Each success rate comes with
+its 95% interval (`benchmarks.stats.rate_ci`).
 
 Prints the machine, then one JSON line per kick, robot type and mode.
 
@@ -27,6 +28,7 @@ import numpy as np
 from tqdm import tqdm
 
 from benchmarks.machine import machine
+from benchmarks.stats import rate_ci
 from optimization.kick import kick_trial
 from skills.kicks import KickSkill, all_kicks
 
@@ -47,6 +49,7 @@ def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: in
     return {
         "kick": kick.spec.name, "robot_type": robot_type, "mode": mode, "tries": tries,
         "success_rate": round(sum(r["success"] for r in rows) / tries, 3),
+        "success_ci95": rate_ci(sum(r["success"] for r in rows), tries),
         "distance_mean_m": round(float(dist.mean()), 2), "distance_std_m": round(float(dist.std()), 2),
         "direction_error_mean_deg": round(float(np.mean(errs)), 1) if errs else None,
         "falls": sum(r["fell"] for r in rows), "kicks_started": sum(r["kicked"] for r in rows),

@@ -10,7 +10,8 @@ JSON line per robot type:
 * the go-to-target course (waypoints and stops modeled on Figure A.1: long
   straight walks, a curve, quick direction changes, stop and go, a spiral),
   walked by dead reckoning on the walk's own odometry: falls, time, how far
-  the dead-reckoned pose drifted from the truth;
+  the dead-reckoned pose drifted from the truth; over several runs, the share
+  of runs with a fall and its 95% interval;
 * getup success and mean time from front and back (`benchmarks.getup`).
 
 Goals for the hand-tuned defaults (issue 3): forward >= 0.3 m/s, sideways
@@ -30,6 +31,7 @@ import time
 import numpy as np
 
 from benchmarks.machine import machine
+from benchmarks.stats import rate_ci
 from models.messages import Action
 from models.scene import Lineup
 from server.trainer import Trainer
@@ -175,6 +177,8 @@ def main() -> None:
         runs = [course(t, rng=None if k == 0 else rng) for k in range(max(1, args.course_runs))]
         row["course"] = runs[0] if len(runs) == 1 else {
             "runs": len(runs), "falls": [r["falls"] for r in runs],
+            "runs_with_falls": sum(r["falls"] > 0 for r in runs),
+            "runs_with_falls_ci95": rate_ci(sum(r["falls"] > 0 for r in runs), len(runs)),
             "reached": [r["reached"] for r in runs], "seconds": [r["seconds"] for r in runs]}
         row.update({"getup": getups(t, args.getup_tries),
                     "wall_seconds": round(time.perf_counter() - start, 1), "machine": info})
