@@ -32,7 +32,8 @@ the kick starts and in which direction (robot frame) it sends the ball.
   walk turns poorly on the spot, and each stop turns the robot by about 5 deg
   at random). With `align` given, an error small enough for `skills.align.Align`
   (a few cm and up to 20 deg) is instead handed to the caller (mode "align"),
-  which steps it off one foot at a time, and the pose is judged again.
+  which steps it off one foot at a time, and the pose is judged again, in a
+  box `after_align` times the kick's (until the next `reset`).
 """
 
 from __future__ import annotations
@@ -83,6 +84,7 @@ class ApproachParams:
     fix_max_turn: float = 0.379  # largest turn input fixing on the spot
     fix_time: float = 0.768  # s: longest burst of steps fixing a small error before looking again
     smooth: float = 0.02  # s: time constant of the low-passed error used to line up
+    after_align: float = 1.5  # the kick's box grows by this factor once an align has moved the robot
 
     @classmethod
     def load(cls, paths: Iterable[PathLike] = ()) -> ApproachParams:
@@ -96,7 +98,7 @@ APPROACH_SCHEMA = {"max_decel_x": "1", "max_decel_y": "1", "buffer": "mm", "turn
                    "max_turn": "1", "max_speed": "1", "near": "m", "around": "m", "stage": "m", "stop": "1",
                    "creep": "1", "lead": "m", "settle": "s", "smooth": "s",
                    "lookahead": "m", "fix_time": "s", "fix_turn_gain": "1", "fix_max_turn": "1",
-                   "back": "m", "fast": "m", "fast_creep": "m"}
+                   "back": "m", "fast": "m", "fast_creep": "m", "after_align": "1"}
 assert set(APPROACH_SCHEMA) == {f.name for f in fields(ApproachParams)}
 
 
@@ -218,10 +220,14 @@ class Approach:
         self.smooth: np.ndarray | None = None  # low-passed (dx, dy, dheading, lateral) error near the pose
         self.fix_time = 0.0  # s spent in the current "fix"
         self.near = False  # using the approach-to-kick rule (hysteresis on `near`)
+        self.aligns = 0  # aligns played since the reset: after one, the box is `after_align` wider
 
     def aligned(self) -> None:
-        """The caller's `skills.align.Align` has moved the robot: stand, then judge again."""
+        """The caller's `skills.align.Align` has moved the robot: stand, then judge again,
+        in a box `after_align` times the kick's (a second align costs 4 s and lands no
+        nearer than the first, within the align's and the vision's errors)."""
         self.phase, self.in_box, self.smooth = "stop", 0.0, None
+        self.aligns += 1
 
     def _max_speed(self, set_name: str) -> tuple[float, float]:
         """Speeds (m/s) that walk inputs x = 1 and y = 1 of a set give, about."""
@@ -243,6 +249,8 @@ class Approach:
         dh = wrap(gh - rh)
         error = (dx, dy, dh)
         tx, ty, th = spec.tolerance
+        if self.aligns:
+            tx, ty, th = tx * p.after_align, ty * p.after_align, th * p.after_align
         ru, rv = _to_kick_frame((rx, ry), ball, gh)
         pu, pv = _to_kick_frame((gx, gy), ball, gh)
         dist = math.hypot(dx, dy)

@@ -215,3 +215,23 @@ def test_approach_stops_in_the_box_without_touching_the_ball():
                and abs(rel[0] - spec.ball[0]) < tx + 0.015
                and abs(rel[1] - spec.ball[1]) < ty + 0.015 and abs(heading) < th + math.radians(3))
     assert ok >= 3, (ok, falls)
+
+
+def test_after_an_align_the_box_is_wider_and_a_reset_narrows_it_again():
+    from skills.align import AlignParams
+
+    appr = Approach(load_walk_sets(default_param_files(0)), align=AlignParams())
+    ball = (0.0, 0.0)
+    gx, gy, gh = kick_pose(ball, TARGET, LEFT)
+    wide = appr.params.after_align
+    assert wide > 1.0
+    off = (gx, gy + 0.03 * (1.0 + wide) / 2.0, gh)  # outside the kick's box, inside the wider one
+
+    def ready_within(steps: int) -> bool:
+        return any(appr.step(off, ball, TARGET, LEFT, standing=True).ready for _ in range(steps))
+
+    assert not ready_within(40)  # handed to the align instead
+    appr.aligned()
+    assert ready_within(40)
+    appr.reset()  # a fall, a lost ball or another kick: the kick's own box again
+    assert not ready_within(40)
