@@ -5,8 +5,8 @@ lying (`World.place_robot(..., lying=...)`) at a random heading with randomly
 perturbed joint angles (seeded), held 0.5 s to settle, then driven only by
 `skills.falls.Getup` through its percepts. Success: within `--limit` seconds
 the torso's up-vector z exceeds 0.9 and its height 0.8 x the stand height, and
-both still hold after standing 1 s more. Time is when that first held. Each rate comes with its 95% interval
-(`benchmarks.stats.rate_ci`).
+both still hold after standing 1 s more. Time is when that first held. Each
+rate comes with its 95% interval (`benchmarks.stats.rate_ci`).
 Prints one JSON line per robot type.
 
     python benchmarks/getup.py [--types 0 1 2 3 4] [--tries 20] [--seed 0]

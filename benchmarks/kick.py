@@ -46,10 +46,10 @@ def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: in
     dist = np.array([r["distance"] for r in rows])
     errs = [r["direction_error"] for r in rows if r["direction_error"] is not None]
     contact = [r["contact_s"] for r in rows if r["contact_s"] is not None]
+    ok = sum(r["success"] for r in rows)
     return {
         "kick": kick.spec.name, "robot_type": robot_type, "mode": mode, "tries": tries,
-        "success_rate": round(sum(r["success"] for r in rows) / tries, 3),
-        "success_ci95": rate_ci(sum(r["success"] for r in rows), tries),
+        "success_rate": round(ok / tries, 3), "success_ci95": rate_ci(ok, tries),
         "distance_mean_m": round(float(dist.mean()), 2), "distance_std_m": round(float(dist.std()), 2),
         "direction_error_mean_deg": round(float(np.mean(errs)), 1) if errs else None,
         "falls": sum(r["fell"] for r in rows), "kicks_started": sum(r["kicked"] for r in rows),

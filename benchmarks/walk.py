@@ -175,10 +175,10 @@ def main() -> None:
                 "sprint_fell": sprint["fell"]})
         rng = np.random.default_rng(t)
         runs = [course(t, rng=None if k == 0 else rng) for k in range(max(1, args.course_runs))]
+        fell = sum(r["falls"] > 0 for r in runs)
         row["course"] = runs[0] if len(runs) == 1 else {
             "runs": len(runs), "falls": [r["falls"] for r in runs],
-            "runs_with_falls": sum(r["falls"] > 0 for r in runs),
-            "runs_with_falls_ci95": rate_ci(sum(r["falls"] > 0 for r in runs), len(runs)),
+            "runs_with_falls": fell, "runs_with_falls_ci95": rate_ci(fell, len(runs)),
             "reached": [r["reached"] for r in runs], "seconds": [r["seconds"] for r in runs]}
         row.update({"getup": getups(t, args.getup_tries),
                     "wall_seconds": round(time.perf_counter() - start, 1), "machine": info})

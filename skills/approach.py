@@ -224,8 +224,8 @@ class Approach:
 
     def aligned(self) -> None:
         """The caller's `skills.align.Align` has moved the robot: stand, then judge again,
-        in a box `after_align` times the kick's (a second align costs 4 s and lands no
-        nearer than the first, within the align's and the vision's errors)."""
+        in a box `after_align` times the kick's: a second align costs about 4 s, and
+        the first one's miss is within the align's and the vision's few-mm errors."""
         self.phase, self.in_box, self.smooth = "stop", 0.0, None
         self.aligns += 1
 
