@@ -93,7 +93,8 @@ class Kicker:
     """Approach and kick toward a target, cycle by cycle (`act` returns joint velocities).
 
     kicks: the kicks it may choose from, by name; walk_sets: the walk sets
-    (default: the robot type's shipped ones).
+    (default: the robot type's shipped ones); approach: the approach's parameters
+    (default: the type's shipped ones, `skills.approach.approach_param_paths`).
     """
 
     def __init__(self, robot_type: int, kicks: Mapping[str, KickSkill],
@@ -105,7 +106,8 @@ class Kicker:
         self.motion = Motion(robot_type, engine)
         self.kicks = dict(kicks)
         self.align = Align(robot_type, kin=engine.kin)
-        self.approach = Approach(engine.sets, approach, align=self.align.params)
+        self.approach = Approach(engine.sets, approach or ApproachParams.load(robot_type=robot_type),
+                                 align=self.align.params)
         self._align_start = (0.0, 0.0, 0.0)  # dead-reckoned pose where the align began
         self.odo = Odometry()
         self.ball = BallMemory()

@@ -29,9 +29,11 @@ Tasks (fitness higher is better; `FALL_PENALTY` per fall):
   fitness = progress toward the target (m) - |lateral miss| / 2.
 * ``kick_walking``: approach from 1-2 m and kick; fitness = progress toward
   the target (m) - 0.2 x seconds until contact.
-* ``approach`` (``kick=NAME``, default ``ik_forward``): learns the ball
-  approach (the ``approach`` set, skills/data/approach.params) with the kick
-  frozen: a walking trial as ``kick_walking``, feet alternating; fitness =
+* ``approach`` (``kick=NAME``, default ``ik_forward``; ``any``: each trial
+  draws one of the type's shipped kicks): learns the ball approach (the
+  ``approach`` set, starting from the type's shipped files,
+  `skills.approach.approach_param_paths`) with the kick frozen: a walking trial
+  as ``kick_walking``, feet drawn at random; fitness =
   progress toward the target capped at `APPROACH_CAP` m (the kick's own reach
   is not the approach's merit) - 0.2 x seconds until contact.
 
@@ -43,7 +45,7 @@ from __future__ import annotations
 import copy
 import functools
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -54,7 +56,7 @@ from models.messages import Action
 from models.scene import Lineup
 from optimization.phases import FALL_PENALTY, WalkAgent
 from server.trainer import Trainer
-from skills.approach import APPROACH_SCHEMA, ApproachParams, kick_pose
+from skills.approach import APPROACH_SCHEMA, ApproachParams, approach_param_paths, kick_pose
 from skills.kick import (
     BASE_SET,
     FOOT_NAME,
@@ -72,6 +74,7 @@ from skills.skill import read_skills, skill_path
 if TYPE_CHECKING:  # optimization.paramvec and .task import this module
     from optimization.paramvec import ParamSetDef, Values
     from optimization.task import TrialResult
+    from server.world import World
 
 BALL = (-5.0, 0.0)  # m, field frame: where the ball starts
 APPROACH_LIMIT = 25.0  # s to reach the ball and start the kick
@@ -84,10 +87,12 @@ MODES = ("standing", "walking")
 
 
 def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Generator,
-               seed: int, approach: ApproachParams | None = None) -> dict:
+               seed: int, approach: ApproachParams | None = None,
+               observe: Callable[[World], None] | None = None) -> dict:
     """One kick (`mode` "standing" or "walking"); its measurements (m, deg, s; ground truth).
 
-    approach: the ball approach's parameters (default: the shipped ones)."""
+    approach: the ball approach's parameters (default: the type's shipped ones);
+    observe: called with the world after every cycle (measurements of a benchmark)."""
     if mode not in MODES:
         raise ValueError(f"mode must be one of {', '.join(MODES)}, not {mode!r}")
     tr = Trainer(Lineup((robot_type,), ()), seed=seed)
@@ -122,6 +127,8 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
         if mode == "standing" and kicker.kick_started is None and w.time - t0 >= look:
             kicker.kick_now(percept)  # after watching the ball `look` s
         touched = tr.step({0: Action(kicker.act(percept))})
+        if observe is not None:
+            observe(w)
         fell = fell or bool(w.torso_up()[0] < FALLEN_UP)
         if kicker.state == KICK and contact is None:
             end = max(end, w.time + 1.0)  # a kick that started always gets to finish
@@ -201,6 +208,7 @@ APPROACH_SPECS = {
     "after_align": (0.1, 1.0, 2.5),
 }
 assert set(APPROACH_SPECS) == set(APPROACH_SCHEMA)
+ANY_KICK = "any"  # the approach task's kick option: a shipped kick drawn per trial
 APPROACH_CAP = 4.0  # m of progress toward the target that an approach trial counts
 
 
@@ -211,12 +219,13 @@ def approach_param_set() -> ParamSetDef:
 
     specs = tuple(ParamSpec(n, *APPROACH_SPECS[n]) for n in APPROACH_SCHEMA)
     return ParamSetDef(name="approach", prefix="approach_", schema=APPROACH_SCHEMA, specs=specs,
-                       defaults=lambda robot_type: [skill_path("approach.params")])
+                       defaults=lambda robot_type: [str(p) for p in approach_param_paths(robot_type)])
 
 
-def approach_params(values: Values) -> ApproachParams:
-    """The approach bound to `values["approach"]` (file units) over the shipped values."""
-    base = ApproachParams.load()
+def approach_params(values: Values, robot_type: int | None = None) -> ApproachParams:
+    """The approach bound to `values["approach"]` (file units) over the shipped values
+    (robot_type's own where it has them)."""
+    base = ApproachParams.load(robot_type=robot_type)
     si = {n: float(v) * UNITS[APPROACH_SCHEMA[n]] for n, v in values.get("approach", {}).items()}
     return replace(base, **si)
 
@@ -286,14 +295,15 @@ def _shipped_kicks(robot_type: int) -> dict[str, KickSkill]:
 class ApproachTask:
     """Walking approach and kick with a frozen kick; learns the ``approach`` set.
 
-    kick: the kick's name without its foot (``ik_forward``, ``kick``, ...)."""
+    kick: the kick's name without its foot (``ik_forward``, ``kick``, ...), or
+    ``any``: each trial draws one of the type's shipped kicks."""
 
     name: str = "approach"
     robot_type: int = 0
     kick: str = "ik_forward"
 
     def __post_init__(self) -> None:
-        names = {n.rsplit("_", 1)[0] for n in _shipped_kicks(self.robot_type)}
+        names = {n.rsplit("_", 1)[0] for n in _shipped_kicks(self.robot_type)} | {ANY_KICK}
         if self.kick not in names:
             raise ValueError(f"kick must be one of {', '.join(sorted(names))}, not {self.kick!r}")
 
@@ -309,18 +319,25 @@ class ApproachTask:
     def worst(self) -> float:
         return -FALL_PENALTY - 0.2 * APPROACH_LIMIT - 10.0
 
+    def draw_kick(self, rng: np.random.Generator) -> str:
+        """The shipped kick (with its foot) a trial plays, drawn from `rng`."""
+        if self.kick == ANY_KICK:
+            names = sorted(_shipped_kicks(self.robot_type))
+            return names[int(rng.integers(len(names)))]
+        return f"{self.kick}_{('left', 'right')[int(rng.integers(2))]}"
+
     def trial(self, values: Values, seed: int) -> TrialResult:
         from optimization.task import TrialResult
 
         rng = np.random.default_rng(seed)
-        foot = ("left", "right")[int(rng.integers(2))]
-        kick = copy.deepcopy(_shipped_kicks(self.robot_type)[f"{self.kick}_{foot}"])  # fresh state
+        name = self.draw_kick(rng)
+        kick = copy.deepcopy(_shipped_kicks(self.robot_type)[name])  # fresh state
         r = kick_trial(self.robot_type, kick, "walking", rng, int(rng.integers(2**31)),
-                       approach_params(values))
+                       approach_params(values, self.robot_type))
         fitness = min(r["toward"], APPROACH_CAP) - 0.2 * (
             r["contact_s"] if r["contact_s"] is not None else APPROACH_LIMIT)
         fitness -= FALL_PENALTY * r["fell"]
-        return TrialResult(float(fitness), {**r, "foot": foot})
+        return TrialResult(float(fitness), {**r, "kick": name})
 
 
 def approach(robot_type: int = 0, kick: str = "ik_forward") -> ApproachTask:

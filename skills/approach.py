@@ -87,10 +87,19 @@ class ApproachParams:
     after_align: float = 1.5  # the kick's box grows by this factor once an align has moved the robot
 
     @classmethod
-    def load(cls, paths: Iterable[PathLike] = ()) -> ApproachParams:
-        """Shipped values (skills/data/approach.params), then `paths` (later override)."""
-        values = load_params([DATA / "approach.params", *paths], APPROACH_SCHEMA, "approach_")
+    def load(cls, paths: Iterable[PathLike] = (), robot_type: int | None = None) -> ApproachParams:
+        """Shipped values (`approach_param_paths(robot_type)`), then `paths` (later override)."""
+        values = load_params([*approach_param_paths(robot_type), *paths], APPROACH_SCHEMA, "approach_")
         return replace(cls(), **values)
+
+
+def approach_param_paths(robot_type: int | None = None) -> list[Path]:
+    """The shipped approach files: ``approach.params`` (every type), then
+    ``approach_type<T>.params`` where robot type T has its own values."""
+    paths = [DATA / "approach.params"]
+    if robot_type is not None and (DATA / f"approach_type{robot_type}.params").exists():
+        paths.append(DATA / f"approach_type{robot_type}.params")
+    return paths
 
 
 # Names in parameter files (with the "approach_" prefix) and their file units.
@@ -402,5 +411,5 @@ class Approach:
         return wu, wv, "around"
 
 
-__all__ = ["APPROACH_SCHEMA", "Approach", "ApproachCommand", "ApproachParams", "ball_in_path",
-           "choose_kick", "decel_speed", "kick_cost", "kick_pose"]
+__all__ = ["APPROACH_SCHEMA", "Approach", "ApproachCommand", "ApproachParams", "approach_param_paths",
+           "ball_in_path", "choose_kick", "decel_speed", "kick_cost", "kick_pose"]

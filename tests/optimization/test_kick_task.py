@@ -130,3 +130,42 @@ def test_an_approach_that_creeps_scores_worse_than_the_shipped_one():
     bad = task.trial(slow, 3)
     assert good.info["kicked"] and good.info["toward"] > 1.0, good
     assert good.fitness > bad.fitness + 1.0, (good, bad)
+
+
+def test_a_robot_types_own_approach_file_overrides_the_shared_values_for_that_type_only(
+        tmp_path, monkeypatch):
+    import shutil
+
+    import skills.approach as approach
+    from agent.kicker import Kicker
+    from skills.ikkick import ik_kicks
+
+    shutil.copy(approach.DATA / "approach.params", tmp_path / "approach.params")
+    (tmp_path / "approach_type2.params").write_text("approach_around\t0.7\t# m\n")
+    monkeypatch.setattr(approach, "DATA", tmp_path)
+    assert approach.ApproachParams.load(robot_type=2).around == pytest.approx(0.7)
+    shared = approach.ApproachParams.load(robot_type=1)
+    assert shared == approach.ApproachParams.load() and shared.around != pytest.approx(0.7)
+    assert load_values(["approach"], 2)["approach"]["around"] == pytest.approx(0.7)  # the optimizer's start
+    assert load_values(["approach"], 1)["approach"]["around"] == pytest.approx(shared.around)
+    kicks = {"ik_forward_left": ik_kicks(2)["ik_forward_left"]}
+    assert Kicker(2, kicks).approach.params.around == pytest.approx(0.7)  # what the agent plays
+
+
+def test_the_approach_task_draws_any_shipped_kick_or_one_kicks_two_feet():
+    from optimization.kick import APPROACH_CAP, APPROACH_LIMIT, _shipped_kicks
+    from optimization.phases import FALL_PENALTY
+
+    rng = np.random.default_rng(0)
+    anyk = make_task("approach", kick="any")
+    drawn = {anyk.draw_kick(rng) for _ in range(200)}
+    assert drawn == set(_shipped_kicks(0))
+    one = make_task("approach", kick="kick_5m")
+    assert {one.draw_kick(rng) for _ in range(20)} == {"kick_5m_left", "kick_5m_right"}
+    with pytest.raises(ValueError, match="kick must be one of"):
+        make_task("approach", kick="bicycle")
+    r = anyk.trial(load_values(anyk.sets, 0), 11)
+    contact = APPROACH_LIMIT if r.info["contact_s"] is None else r.info["contact_s"]
+    assert r.info["kick"] in drawn
+    assert r.fitness == pytest.approx(min(r.info["toward"], APPROACH_CAP) - 0.2 * contact
+                                      - FALL_PENALTY * r.info["fell"])
