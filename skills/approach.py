@@ -48,7 +48,7 @@ import numpy as np
 from skills.align import AlignParams
 from skills.kicks import KickSpec
 from skills.navigate import walk_toward, wrap
-from skills.params import PathLike, load_params
+from skills.params import PathLike, load_params, with_type_file
 from skills.walk import WalkParams
 
 DATA = Path(__file__).parent / "data"
@@ -93,13 +93,10 @@ class ApproachParams:
         return replace(cls(), **values)
 
 
-def approach_param_paths(robot_type: int | None = None) -> list[Path]:
+def approach_param_paths(robot_type: int | None = None) -> list[str]:
     """The shipped approach files: ``approach.params`` (every type), then
     ``approach_type<T>.params`` where robot type T has its own values."""
-    paths = [DATA / "approach.params"]
-    if robot_type is not None and (DATA / f"approach_type{robot_type}.params").exists():
-        paths.append(DATA / f"approach_type{robot_type}.params")
-    return paths
+    return with_type_file(DATA / "approach.params", robot_type)
 
 
 # Names in parameter files (with the "approach_" prefix) and their file units.

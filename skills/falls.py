@@ -14,13 +14,12 @@ robot lands on its front or back, never on its side).
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
-from skills.params import PathLike, load_params
+from skills.params import PathLike, load_params, with_type_file
 from skills.skill import Skill, SkillPlayer, read_skills, skill_path
 
 UPRIGHT, FALLING, FRONT, BACK, LEFT, RIGHT = "upright", "falling", "front", "back", "left", "right"
@@ -90,20 +89,14 @@ class FallDetector:
 
 
 GETUP_FILES = ("getup_front.skl", "getup_back.skl", "roll.skl")  # in skills/data/
-GETUP_PARAMS = ("getup.params",)  # in skills/data/: tuned values of the getups' $parameters
-GETUP_TYPE_PARAMS = "getup_type{}.params"  # in skills/data/, if present: one robot type's overrides
+GETUP_PARAMS = "getup.params"  # in skills/data/: tuned values of the getups' $parameters
 SKILL_FOR = {FRONT: "GETUP_FRONT", BACK: "GETUP_BACK", LEFT: "ROLL_LEFT", RIGHT: "ROLL_RIGHT"}
 
 
 def getup_param_paths(robot_type: int | None = None) -> list[str]:
     """The shipped getup parameter files: ``getup.params`` (every type), then
     ``getup_type<T>.params`` where robot type T has its own values."""
-    paths = [skill_path(p) for p in GETUP_PARAMS]
-    if robot_type is not None:
-        typed = skill_path(GETUP_TYPE_PARAMS.format(robot_type))
-        if os.path.exists(typed):
-            paths.append(typed)
-    return paths
+    return with_type_file(skill_path(GETUP_PARAMS), robot_type)
 
 
 def load_getup_skills(param_paths: Iterable[PathLike] = (),

@@ -51,7 +51,7 @@ from skills.ik import LegIK
 from skills.imu import TiltEstimator
 from skills.kicks import KickSpec
 from skills.kinematics import LEG_JOINTS, RobotKinematics
-from skills.params import PathLike, load_param_sets
+from skills.params import PathLike, load_param_sets, with_type_file
 from skills.walk import WalkEngine
 
 DATA = Path(__file__).parent / "data"
@@ -366,10 +366,9 @@ def load_ik_params(paths: Iterable[PathLike]) -> dict[str, IkKickParams]:
     return {kind: _kick_params({**raw[""], **raw[prefix]}, kind) for kind, prefix in KINDS.items()}
 
 
-def default_param_files(robot_type: int) -> list[Path]:
+def default_param_files(robot_type: int) -> list[str]:
     """The shipped IK kick parameter files for a robot type, general first."""
-    typed = DATA / f"ikkick_type{robot_type}.params"
-    return [PARAMS_FILE, typed] if typed.exists() else [PARAMS_FILE]
+    return with_type_file(PARAMS_FILE, robot_type)
 
 
 def ik_kicks(robot_type: int, param_paths: Iterable[PathLike] = (),

@@ -28,7 +28,6 @@ result); later files override earlier ones. Values are SI inside.
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
@@ -38,11 +37,11 @@ from models.messages import Percept
 from models.rules import CYCLE
 from skills.imu import TiltEstimator
 from skills.kicks import KickSpec
-from skills.params import ParamError, PathLike, convert, read_entries, require
+from skills.params import ParamError, PathLike, convert, read_entries, require, with_type_file
 from skills.skill import Skill, SkillPlayer, SkillSource, read_skills, skill_path
 
 KICK_FILE = "kick.skl"  # in skills/data/
-KICK_PARAMS = ("kick.params",)  # in skills/data/
+KICK_PARAMS = "kick.params"  # in skills/data/; kick_type<T>.params beside it: a type's overrides
 BASE_SET = "kick"  # every set starts from this one's values
 SKILL_FOR_FOOT = {"l": "KICK_LEFT", "r": "KICK_RIGHT"}
 FOOT_NAME = {"l": "left", "r": "right"}
@@ -69,17 +68,9 @@ START_WAIT = 0.3  # s
 FAST_KEYFRAMES = (4, 5)  # indices of k3 and k4 (pull back, swing) in KICK_LEFT: their targets jump
 
 
-def type_param_file(robot_type: int) -> str:
-    """Path of the robot type's own overrides in skills/data/ (may not exist)."""
-    return skill_path(f"kick_type{robot_type}.params")
-
-
 def default_param_files(robot_type: int | None = None) -> list[str]:
     """The shipped parameter files for `robot_type`, in load order."""
-    paths = [skill_path(p) for p in KICK_PARAMS]
-    if robot_type is not None and os.path.exists(type_param_file(robot_type)):
-        paths.append(type_param_file(robot_type))
-    return paths
+    return with_type_file(skill_path(KICK_PARAMS), robot_type)
 
 
 def kick_schema(source: SkillSource | None = None) -> dict[str, str]:

@@ -41,6 +41,16 @@ Schema = Mapping[str, str]  # parameter name -> unit (a key of UNITS)
 PathLike = str | os.PathLike
 
 
+def with_type_file(path: PathLike, robot_type: int | None) -> list[str]:
+    """A shipped parameter file, then its robot type's own overrides beside it
+    (``<stem>_type<T><suffix>``) when that file exists: the load order of every
+    skill with per-type values."""
+    base = os.fspath(path)
+    stem, suffix = os.path.splitext(base)
+    typed = f"{stem}_type{robot_type}{suffix}"
+    return [base, typed] if robot_type is not None and os.path.exists(typed) else [base]
+
+
 class ParamError(ValueError):
     """A malformed or unknown entry of a parameter (or skill) file, with its place."""
 

@@ -91,3 +91,14 @@ def test_unknown_unit_in_schema_is_a_programming_error(tmp_path):
 def test_any_finite_value_round_trips(value, sep):
     (e,) = parse_params(f"walk_height{sep}{value!r}\n")
     assert e.value == value and e.name == "walk_height" and e.line == 1
+
+
+def test_a_types_own_file_follows_the_shared_one_only_where_it_exists(tmp_path):
+    from skills.params import with_type_file
+
+    shared = tmp_path / "walk.params"
+    shared.write_text("x\t1\n")
+    (tmp_path / "walk_type3.params").write_text("x\t2\n")
+    assert with_type_file(shared, 3) == [str(shared), str(tmp_path / "walk_type3.params")]
+    assert with_type_file(shared, 1) == [str(shared)]
+    assert with_type_file(shared, None) == [str(shared)]
