@@ -95,8 +95,8 @@ class SwingProbe:
         elif self.result is None and self.prev is not None and np.linalg.norm(v) > LAUNCH:
             u = v / np.linalg.norm(v)
             qpos, qvel, ball = self.prev
-            before = self._measure(qpos, qvel, ball - BALL_RADIUS * u, u)
-            after = self._measure(d.qpos.copy(), d.qvel.copy(), before["point"], u)
+            before, local = self._measure(qpos, qvel, u, point=ball - BALL_RADIUS * u)
+            after, _ = self._measure(d.qpos.copy(), d.qvel.copy(), u, local=local)
             self.result = {"speed_before": before["speed"], "speed_after": after["speed"],
                            "from_joints": before["from_joints"],
                            "bound_leg": max(before["bound_leg"], after["bound_leg"]),
@@ -105,19 +105,17 @@ class SwingProbe:
             self._launch = (world.time, [self.result["launch_speed"]])
         self.prev = (d.qpos.copy(), d.qvel.copy(), world.ball_position())
 
-    def _measure(self, qpos: np.ndarray, qvel: np.ndarray, point: np.ndarray | dict,
-                 u: np.ndarray) -> dict:
-        """Speed along u of a point on the kicking foot at state (qpos, qvel), and the bounds.
-
-        point: in the world frame, or a previous result's "point" (held on the foot)."""
+    def _measure(self, qpos: np.ndarray, qvel: np.ndarray, u: np.ndarray,
+                 point: np.ndarray | None = None, local: np.ndarray | None = None
+                 ) -> tuple[dict, np.ndarray]:
+        """Speed along u of a point on the kicking foot at state (qpos, qvel), and the
+        bounds; the point given in the world frame (`point`) or the foot's (`local`, m).
+        Also returns the point in the foot's frame."""
         m, s = self.world.model, self.scratch
         s.qpos[:], s.qvel[:] = qpos, qvel
         mujoco.mj_forward(m, s)
         pos, rot = s.xpos[self.foot], s.xmat[self.foot].reshape(3, 3)
-        if isinstance(point, dict):  # foot frame -> world
-            world_point = pos + rot @ point["local"]
-        else:
-            world_point = np.asarray(point, dtype=float)
+        world_point = pos + rot @ local if local is not None else np.asarray(point, dtype=float)
         jp, jr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
         mujoco.mj_jac(m, s, jp, jr, world_point, self.foot)
         sp, sr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
@@ -125,10 +123,10 @@ class SwingProbe:
         S = np.vstack([sp, sr])  # the support foot's twist: held at zero
         A = jp[:, self.hinges] - jp[:, self.free] @ np.linalg.solve(S[:, self.free], S[:, self.hinges])
         gain = np.abs(u @ A) * self.limits  # m/s each joint can add along u
-        return {"speed": float(u @ (jp @ qvel)), "bound_leg": float(gain[self.leg].sum()),
-                "bound_legs": float(gain.sum()),
-                "from_joints": float(u @ (A @ qvel[self.hinges])),  # the same, support foot still
-                "point": {"local": rot.T @ (world_point - pos)}}
+        return ({"speed": float(u @ (jp @ qvel)), "bound_leg": float(gain[self.leg].sum()),
+                 "bound_legs": float(gain.sum()),
+                 "from_joints": float(u @ (A @ qvel[self.hinges]))},  # the same, support foot still
+                rot.T @ (world_point - pos))
 
 
 def swing_stats(robot_type: int, kick_name: str, tries: int, seed: int) -> dict:
