@@ -87,3 +87,27 @@ def test_a_standing_robot_stays_still(walk_first):
         assert tr.world.torso_up()[0] > 0.5
     calm = np.degrees(np.mean(rates[-50:]))  # the last second, two seconds after any stop
     assert calm < 15.0, calm
+
+
+@pytest.mark.parametrize("t", range(5))
+def test_the_sprint_set_walks_forward_at_0_3_m_s(t):
+    # Issue 3's forward goal, walked with the set made for it (each type's sprint set,
+    # walk_type<T>.txt): stand 0.5 s with the go-to-target set, then 10 s straight ahead
+    # from a perturbed start. Over 48 starts each set falls 2-4 times, so of three starts
+    # one may fail; the other two must cover 3 m in the 10 s (truth, along the start
+    # heading) without falling. The shared sprint values walk types 2 and 4 at 0.24-0.26 m/s.
+    good = []
+    for seed in (500, 501, 502):
+        tr, mo = new_robot(t, np.random.default_rng(seed))
+        for _ in range(25):
+            tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0))})
+        x0 = tr.world.player_pose(0)[0]
+        fell = False
+        for _ in range(500):
+            tr.step({0: Action(mo.walk_step(tr.percepts()[0], 1.0, 0.0, 0.0, "sprint"))})
+            if tr.world.torso_up()[0] < 0.5:
+                fell = True
+                break
+        speed = (tr.world.player_pose(0)[0] - x0) / 10.0
+        good.append(not fell and speed >= 0.3)
+    assert sum(good) >= 2, good
