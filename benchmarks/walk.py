@@ -15,7 +15,9 @@ JSON line per robot type:
 * getup success and mean time from front and back (`benchmarks.getup`).
 
 Goals for the hand-tuned defaults (issue 3): forward >= 0.3 m/s, sideways
->= 0.15 m/s, turning >= 60 deg/s, no falls on the course.
+>= 0.15 m/s, turning >= 60 deg/s, no falls on the course. The forward goal is
+the sprint set's (`sprint_forward_m_s`, the set for walking straight ahead);
+`forward_m_s` is the go-to-target set's, which also turns, side-steps and stops.
 
     python -m benchmarks.walk [--types 0,1,2,3,4] [--seconds 10] [--course-runs N]
                               [--params FILE ...] [--skip-speeds] [--getup-tries N]
