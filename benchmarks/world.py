@@ -8,10 +8,9 @@ MuJoCo step. Goal (issue 2): physics plus server at least 8x real time on one co
 
 This machine's speed drifts by 10-20% from minute to minute (other tenants; the
 work does not change: callgrind counts 6.6 million instructions per physics step
-run after run), so `--repeats N` times N
-windows of `--seconds` one after another in the same match and adds each
-window's physics-plus-server factor, their median and their best; the other
-figures are over all windows.
+run after run), so `--repeats N` times N windows of `--seconds` one after
+another in the same match and adds each window's physics-plus-server factor,
+their median and their best; the other figures are over all windows.
 
     python -m benchmarks.world [--seconds 60] [--repeats 1] [--seed 0]
 """
