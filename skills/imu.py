@@ -62,7 +62,8 @@ class TiltEstimator:
         roll = self.roll + gx * dt
         pitch = self.pitch + gy * dt
         k = self.blend
-        self.roll = roll + k * math.remainder(acc_roll - roll, 2 * math.pi)
+        # Wrapped: lying, the roll passes +-pi, and an unwrapped 2 pi read as a lean.
+        self.roll = math.remainder(roll + k * math.remainder(acc_roll - roll, 2 * math.pi), 2 * math.pi)
         self.pitch = pitch + k * (acc_pitch - pitch)
 
     @property
