@@ -15,9 +15,10 @@ the kick starts and in which direction (robot frame) it sends the ball.
   the pose when the way is clear, otherwise to where the path touches a circle
   of radius `around` round the ball and then round it (the fast go-to-target
   set only for walking on ahead; turning, stepping sideways and circling with
-  the steadier approach-to-kick set). Within `near` of the pose it creeps in
-  with the approach-to-kick set and UT's velocity rule, per axis of the robot
-  frame::
+  the steadier approach-to-kick set). Within `near` of the pose, and facing
+  within `enter_turn` of the kick's heading (else it first turns at the
+  staging point: the creep turns slowly), it creeps in with the
+  approach-to-kick set and UT's velocity rule, per axis of the robot frame::
 
       v = sqrt(2 * MAXDECEL * (d if d > 2 * BUFFER else d - BUFFER))
 
@@ -85,6 +86,7 @@ class ApproachParams:
     fix_time: float = 0.768  # s: longest burst of steps fixing a small error before looking again
     smooth: float = 0.02  # s: time constant of the low-passed error used to line up
     after_align: float = 1.5  # the kick's box grows by this factor once an align has moved the robot
+    enter_turn: float = math.radians(60.0)  # rad: the creep takes over only within this heading error
 
     @classmethod
     def load(cls, paths: Iterable[PathLike] = (), robot_type: int | None = None) -> ApproachParams:
@@ -104,7 +106,7 @@ APPROACH_SCHEMA = {"max_decel_x": "1", "max_decel_y": "1", "buffer": "mm", "turn
                    "max_turn": "1", "max_speed": "1", "near": "m", "around": "m", "stage": "m", "stop": "1",
                    "creep": "1", "lead": "m", "settle": "s", "smooth": "s",
                    "lookahead": "m", "fix_time": "s", "fix_turn_gain": "1", "fix_max_turn": "1",
-                   "back": "m", "fast": "m", "fast_creep": "m", "after_align": "1"}
+                   "back": "m", "fast": "m", "fast_creep": "m", "after_align": "1", "enter_turn": "deg"}
 assert set(APPROACH_SCHEMA) == {f.name for f in fields(ApproachParams)}
 
 
@@ -266,7 +268,7 @@ class Approach:
         if self.near:  # stay near unless well away or round in front of the ball
             self.near = dist < p.near * 1.6 and ru < pu + 0.08 and abs(rv - pv) < 0.25
         else:
-            self.near = dist < p.near and behind
+            self.near = dist < p.near and behind and abs(dh) < p.enter_turn
         if not self.near:
             self.in_box, self.phase, self.smooth = 0.0, "creep", None
             return self._walk(robot, ball, (gx, gy, gh), (ru, rv), (pu, pv), behind, error)
@@ -356,6 +358,8 @@ class Approach:
         """Go-to-target walk to the staging point behind the pose, or round the ball."""
         p = self.params
         wu, wv, mode = self.waypoint(r, g, behind)
+        if mode == "walk" and abs(error[2]) >= p.enter_turn:  # turned far off: turn at the staging point
+            wu, wv = g[0] - p.stage, g[1]
         wx, wy = _from_kick_frame(wu, wv, ball, pose[2])
         rx, ry, rh = (float(v) for v in robot[:3])
         c, s = math.cos(rh), math.sin(rh)

@@ -130,6 +130,24 @@ def test_a_small_error_standing_is_handed_to_the_align():
             assert appr.step(short, ball, TARGET, LEFT, standing=True).mode == "stop"  # judged again
 
 
+def test_turned_far_off_behind_the_pose_it_turns_before_creeping_in():
+    # Behind the pose and near it, but facing 90 deg off the kick's heading: the creep
+    # (which turns about 10 deg/s) waits until the robot has turned at the staging point.
+    appr = Approach(load_walk_sets(default_param_files(0)))
+    ball = (0.0, 0.0)
+    gx, gy, gh = kick_pose(ball, TARGET, LEFT)
+    behind = (gx - 0.12 * math.cos(gh), gy - 0.12 * math.sin(gh))
+    for off, mode in ((90.0, "walk"), (-90.0, "walk"), (20.0, "creep")):
+        appr.reset()
+        cmd = appr.step((*behind, gh + math.radians(off)), ball, TARGET, LEFT, standing=True)
+        assert cmd.mode == mode, off
+        assert math.copysign(1.0, cmd.turn) == -math.copysign(1.0, off)  # turns toward the kick heading
+    appr.reset()
+    turning = appr.step((*behind, gh + math.radians(90.0)), ball, TARGET, LEFT, standing=True)
+    creeping = appr.step((*behind, gh + math.radians(20.0)), ball, TARGET, LEFT, standing=True)
+    assert abs(turning.turn) > abs(creeping.turn)
+
+
 def test_going_round_the_ball_never_cuts_through_it():
     appr = Approach(load_walk_sets(default_param_files(0)))
     g = (-0.17, 0.05)  # the pose in the kick frame (LEFT)
