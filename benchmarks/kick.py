@@ -9,7 +9,9 @@ percepts alone. Success: the ball moved at least 1 m toward the target and the
 robot did not fall. Distance: the ball's travel to its stop; direction error:
 its travel direction against the target's; time to contact: from the start
 of the trial to the kicking robot's first touch. Each success rate comes with
-its 95% interval (`benchmarks.stats.rate_ci`).
+its 95% interval (`benchmarks.stats.rate_ci`), and each row counts its tries by
+outcome: success, timeout (no kick within the approach's 25 s), approach_fall,
+kick_fall (in or after the kick) and short.
 
 Prints the machine, then one JSON line per kick, robot type and mode.
 
@@ -31,6 +33,19 @@ from benchmarks.machine import machine
 from benchmarks.stats import rate_ci
 from optimization.kick import kick_trial
 from skills.kicks import KickSkill, all_kicks
+
+OUTCOMES = ("success", "timeout", "approach_fall", "kick_fall", "short")
+
+
+def outcome(row: dict) -> str:
+    """One trial's outcome (a `kick_trial` row): "success"; no kick started, "timeout" or
+    "approach_fall" (the robot fell before it could kick); a kick started, "kick_fall"
+    (it fell in or after the kick) or "short" (the ball went less than 1 m toward the target)."""
+    if row["success"]:
+        return "success"
+    if not row["kicked"]:
+        return "approach_fall" if row["fell"] else "timeout"
+    return "kick_fall" if row["fell"] else "short"
 
 
 def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: int,
@@ -54,6 +69,7 @@ def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: in
         "direction_error_mean_deg": round(float(np.mean(errs)), 1) if errs else None,
         "falls": sum(r["fell"] for r in rows), "kicks_started": sum(r["kicked"] for r in rows),
         "time_to_contact_mean_s": round(float(np.mean(contact)), 2) if contact else None,
+        "outcomes": {k: sum(outcome(r) == k for r in rows) for k in OUTCOMES},
         "nominal_distance_m": kick.spec.distance,
         "wall_s": round(time.perf_counter() - wall, 1),
     }
