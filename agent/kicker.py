@@ -213,7 +213,7 @@ class Kicker:
     def _walk(self, percept: Percept, x: float, y: float, turn: float,
               set_name: str = "go_to_target") -> np.ndarray:
         walk = self.motion.walk
-        if set_name != self._set and walk.walking and not self._step_begins():
+        if set_name != self._set and walk.walking and not walk.step_begins():
             set_name = self._set  # change sets only as a step begins (mid-swing it can trip)
         self._set = set_name
         v = self.motion.walk_step(percept, x, y, turn, set_name, head=self._head(percept))
@@ -353,16 +353,11 @@ class Kicker:
             self.motion.walk.reset()
         return self.motion.command(target, percept)
 
-    def _step_begins(self) -> bool:
-        """True in the first cycles of a walk step, with both feet still down."""
-        walk = self.motion.walk
-        return walk.phi - walk.phi_start < 1e-9 + CYCLE / walk.params.phase_length
-
     def _quick_stop(self) -> None:
         """Stand at the next change of support rather than after the walk's half second
         of stepping in place (in which this walk drifts back and turns): the feet
         are both down then."""
-        if self.motion.walk.walking and self._step_begins():
+        if self.motion.walk.walking and self.motion.walk.step_begins():
             self.motion.walk.reset()
 
 

@@ -28,7 +28,6 @@ import numpy as np
 from benchmarks.machine import machine
 from benchmarks.walk import new_robot
 from models.messages import Action
-from models.rules import CYCLE
 from server.trainer import Trainer
 from skills.align import Align
 from skills.motion import Motion
@@ -42,7 +41,7 @@ def come_to_stand(tr: Trainer, mo: Motion, start: str, rng: np.random.Generator)
     if start == "walk":
         walk = mo.walk
         until = w.time + rng.uniform(1.0, 2.0)
-        while w.time < until or walk.phi - walk.phi_start > 1e-9 + CYCLE / walk.params.phase_length:
+        while w.time < until or not walk.step_begins():
             tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.4, 0.0, 0.0, START_SET))})
         walk.reset()  # stop at the change of support, as the approach does
         until = w.time + rng.uniform(0.5, 0.8)

@@ -191,6 +191,11 @@ class WalkEngine:
         self.hip = {s: np.asarray(geo.leg(s).hip, dtype=float) for s in "lr"}
         self.reset()
 
+    def step_begins(self) -> bool:
+        """True in the first cycle of a walk step, with both feet still down (a change of
+        support: where a stop or a change of walk set does not trip the robot)."""
+        return self.phi - self.phi_start < 1e-9 + self.dt / self.params.phase_length
+
     def reset(self) -> None:
         """Stand still, as after a getup or a beam."""
         self.phi_start, self.phi_end = -0.5, 0.5
