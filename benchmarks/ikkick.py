@@ -10,7 +10,9 @@ true offset (robot frame) and played from percepts only; then the robot stands
 while the ball rolls to a stop (at most `--roll` s; the rest is extrapolated by
 `World.ball_rest_position`). Figures: distance the ball moved (m), direction
 error (deg, against `spec.direction`), success (the ball's displacement along
-the kick's direction is at least 1 m and the robot did not fall) and falls. The
+the kick's direction is at least 1 m and the robot did not fall), falls, and
+the backswing's clearance of the ball at the spec's offset (mm, kinematics:
+`backswing_clearance`; below zero the foot grazes the ball before the strike). The
 kick never reads simulator state; the trial does, for the figures.
 """
 
@@ -23,11 +25,17 @@ import platform
 import time
 import zlib
 
+import mujoco
 import numpy as np
 
 from benchmarks.walk import new_robot
+from models import nao
+from models.field import BALL_RADIUS
 from models.messages import Action
+from models.robot import robot_mjcf
 from skills.ikkick import IkKick, ik_kicks
+
+CLEARANCE_SAMPLES = 80  # samples of the backswing checked by `backswing_clearance`
 
 
 def _wrap(a: float) -> float:
@@ -73,6 +81,59 @@ def kick_trial(t: int, kick: IkKick, offset: tuple[float, float] = (0.0, 0.0), r
             "error": abs(_wrap(direction - a))}
 
 
+class _Scene:
+    """One robot of a type and a free-floating ball geom, posed kinematically (no physics)."""
+
+    def __init__(self, robot_type: int) -> None:
+        xml = robot_mjcf(robot_type).replace(
+            "</worldbody>", f'<body name="ball" mocap="true"><geom name="ball" type="sphere" '
+            f'size="{BALL_RADIUS}" contype="0" conaffinity="0"/></body></worldbody>')
+        self.model = mujoco.MjModel.from_xml_string(xml)
+        self.data = mujoco.MjData(self.model)
+        m = self.model
+        self.qadr = np.array([m.jnt_qposadr[m.joint(n).id] for n in nao.joint_names(robot_type)])
+        self.ball = m.geom("ball").id
+        self.leg = {side: [g for g in range(m.ngeom) if m.body(m.geom_bodyid[g]).name in
+                           (f"{side}shank", f"{side}ankle", f"{side}foot", f"{side}toe")]
+                    for side in "lr"}
+
+
+_SCENES: dict[int, _Scene] = {}
+
+
+def backswing_clearance(kick: IkKick, ball: tuple[float, float] | None = None) -> tuple[float, float]:
+    """Least distance (m) between the ball and the kicking shank, ankle, foot or toe while
+    the foot swings back, before the strike; and the normalized swing time of it.
+
+    Kinematics only: the torso upright where the kick puts it, the legs at the
+    kick's IK targets, the ball at `ball` (robot frame, m; default the spec's). The
+    backswing runs to the pull-back: the waypoint farthest back against the kick's
+    direction. A backswing that
+    grazes the ball rolls it off the strike's path (type 4's toe clipped it in most
+    walking IK 45-in kicks)."""
+    sc = _SCENES.setdefault(kick.robot_type, _Scene(kick.robot_type))
+    m, d = sc.model, sc.data
+    kick.reset(ball)
+    u = np.array([math.cos(kick.spec.direction), math.sin(kick.spec.direction)])
+    back = min(kick.params.waypoints, key=lambda w: float(u @ w.pos[:2])).t
+    d.mocap_pos[0] = [kick.ball[0], kick.ball[1], BALL_RADIUS]
+    best, at = math.inf, 0.0
+    for s in np.linspace(0.0, back, CLEARANCE_SAMPLES + 1):
+        t = kick.params.shift_time + float(s) * kick.params.swing_time
+        _, torso, _ = kick.pose_at(t)
+        q = kick.targets_at(t)
+        d.qpos[:3] = torso
+        d.qpos[3:7] = [1.0, 0.0, 0.0, 0.0]
+        d.qpos[sc.qadr] = np.where(np.isnan(q), 0.0, q)
+        mujoco.mj_kinematics(m, d)
+        for g in sc.leg[kick.kick_side]:
+            dist = mujoco.mj_geomDistance(m, d, sc.ball, g, 0.5, None)
+            if dist < best:
+                best, at = dist, float(s)
+    kick.reset()
+    return best, at
+
+
 def run(types, names, tries, seed, jitter, params, roll) -> list[dict]:
     out = []
     for t in types:
@@ -94,6 +155,7 @@ def run(types, names, tries, seed, jitter, params, roll) -> list[dict]:
                     "direction_error_mean_deg": round(float(err.mean()), 1),
                     "success_rate": round(sum(ok) / tries, 2),
                     "falls": sum(r["fell"] for r in res),
+                    "backswing_clearance_mm": round(1000.0 * backswing_clearance(kick)[0], 1),
                     "seconds": round(time.perf_counter() - t0, 1),
                     "machine": f"{platform.node()} {platform.processor() or platform.machine()}"}
             print(json.dumps(line), flush=True)
