@@ -88,11 +88,14 @@ MODES = ("standing", "walking")
 
 def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Generator,
                seed: int, approach: ApproachParams | None = None,
-               observe: Callable[[World], None] | None = None) -> dict:
+               observe: Callable[[World], None] | None = None,
+               spread: tuple[float, float] = (0.01, 2.0)) -> dict:
     """One kick (`mode` "standing" or "walking"); its measurements (m, deg, s; ground truth).
 
     approach: the ball approach's parameters (default: the type's shipped ones);
-    observe: called with the world after every cycle (measurements of a benchmark)."""
+    observe: called with the world after every cycle (measurements of a benchmark);
+    spread: standing, the standard deviations of the robot's placement about the
+    kick pose (m on x and y, deg on the heading)."""
     if mode not in MODES:
         raise ValueError(f"mode must be one of {', '.join(MODES)}, not {mode!r}")
     tr = Trainer(Lineup((robot_type,), ()), seed=seed)
@@ -104,8 +107,8 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
         target_dir = kick.spec.direction
         target = ball + 10.0 * np.array([math.cos(target_dir), math.sin(target_dir)])
         x, y, h = kick_pose(ball, target, kick.spec)
-        x, y = x + rng.normal(0.0, 0.01), y + rng.normal(0.0, 0.01)
-        heading = h + math.radians(rng.normal(0.0, 2.0))
+        x, y = x + rng.normal(0.0, spread[0]), y + rng.normal(0.0, spread[0])
+        heading = h + math.radians(rng.normal(0.0, spread[1]))
         look = float(rng.uniform(*LOOK))
     else:
         d, a = rng.uniform(1.0, 2.0), rng.uniform(-math.pi, math.pi)
