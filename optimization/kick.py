@@ -209,6 +209,7 @@ APPROACH_SPECS = {
     "fix_time": (0.1, 0.1, 2.0), "fix_turn_gain": (0.2, 0.1, 4.0), "fix_max_turn": (0.06, 0.05, 1.0),
     "back": (0.015, 0.0, 0.3), "fast": (0.1, 0.1, 2.0), "fast_creep": (0.03, 0.0, 0.6),
     "after_align": (0.1, 1.0, 2.5), "enter_turn": (10.0, 10.0, 180.0),
+    "around_turn_gain": (0.5, 0.5, 4.0),
 }
 assert set(APPROACH_SPECS) == set(APPROACH_SCHEMA)
 ANY_KICK = "any"  # the approach task's kick option: a shipped kick drawn per trial

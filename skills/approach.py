@@ -87,6 +87,7 @@ class ApproachParams:
     smooth: float = 0.02  # s: time constant of the low-passed error used to line up
     after_align: float = 1.5  # the kick's box grows by this factor once an align has moved the robot
     enter_turn: float = math.radians(60.0)  # rad: the creep takes over only within this heading error
+    around_turn_gain: float = 1.0  # going round the ball: turn input per heading error to the waypoint / pi
 
     @classmethod
     def load(cls, paths: Iterable[PathLike] = (), robot_type: int | None = None) -> ApproachParams:
@@ -106,7 +107,8 @@ APPROACH_SCHEMA = {"max_decel_x": "1", "max_decel_y": "1", "buffer": "mm", "turn
                    "max_turn": "1", "max_speed": "1", "near": "m", "around": "m", "stage": "m", "stop": "1",
                    "creep": "1", "lead": "m", "settle": "s", "smooth": "s",
                    "lookahead": "m", "fix_time": "s", "fix_turn_gain": "1", "fix_max_turn": "1",
-                   "back": "m", "fast": "m", "fast_creep": "m", "after_align": "1", "enter_turn": "deg"}
+                   "back": "m", "fast": "m", "fast_creep": "m", "after_align": "1", "enter_turn": "deg",
+                   "around_turn_gain": "1"}
 assert set(APPROACH_SCHEMA) == {f.name for f in fields(ApproachParams)}
 
 
@@ -372,7 +374,9 @@ class Approach:
         # sideways and going round the ball with the steadier approach-to-kick set.
         fast = mode == "walk" and dw > p.fast and abs(math.atan2(wdy, wdx)) < math.radians(35.0)
         set_name = "go_to_target" if fast or "approach_to_kick" not in self.sets else "approach_to_kick"
-        x, y, turn = walk_toward(wdx, wdy, face, self.sets[set_name], brake=0.3, face_beyond=0.3)
+        gain = p.around_turn_gain if mode == "around" else 1.0
+        x, y, turn = walk_toward(wdx, wdy, face, self.sets[set_name], brake=0.3, face_beyond=0.3,
+                                 turn_gain=gain)
         return ApproachCommand(x, y, turn, set_name, False, error, mode)
 
     def waypoint(self, r: tuple[float, float], g: tuple[float, float], behind: bool

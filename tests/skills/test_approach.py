@@ -148,6 +148,32 @@ def test_turned_far_off_behind_the_pose_it_turns_before_creeping_in():
     assert abs(turning.turn) > abs(creeping.turn)
 
 
+def test_going_round_the_ball_turns_by_the_around_gain():
+    """In front of the ball (the kick pose is behind it), facing along the circle: going
+    round, the turn input scales with `around_turn_gain` (type 3 ships 3); walking
+    straight to the staging point it does not."""
+    from dataclasses import replace
+
+    sets = load_walk_sets(default_param_files(0))
+    ball = (0.0, 0.0)
+    gx, gy, gh = kick_pose(ball, TARGET, LEFT)
+    front = (0.5 * math.cos(gh) - 0.05 * math.sin(gh), 0.5 * math.sin(gh) + 0.05 * math.cos(gh))
+    robot = (*front, gh + math.radians(60.0))
+    turns = {}
+    for gain in (1.0, 3.0):
+        appr = Approach(sets, replace(ApproachParams(), around_turn_gain=gain))
+        cmd = appr.step(robot, ball, TARGET, LEFT, standing=True)
+        assert cmd.mode == "around"
+        turns[gain] = cmd.turn
+    assert turns[1.0] != 0.0
+    assert turns[3.0] == pytest.approx(max(-1.0, min(1.0, 3.0 * turns[1.0])))
+    behind = (gx - 0.5 * math.cos(gh), gy - 0.5 * math.sin(gh), gh + math.radians(30.0))
+    walks = [Approach(sets, replace(ApproachParams(), around_turn_gain=g)).step(behind, ball, TARGET, LEFT)
+             for g in (1.0, 3.0)]
+    assert walks[0].mode == "walk" and walks[0].turn == walks[1].turn
+    assert ApproachParams.load(robot_type=3).around_turn_gain == 3.0
+
+
 def test_going_round_the_ball_never_cuts_through_it():
     appr = Approach(load_walk_sets(default_param_files(0)))
     g = (-0.17, 0.05)  # the pose in the kick frame (LEFT)
