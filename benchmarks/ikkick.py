@@ -108,9 +108,9 @@ def backswing_clearance(kick: IkKick, ball: tuple[float, float] | None = None) -
     Kinematics only: the torso upright where the kick puts it, the legs at the
     kick's IK targets, the ball at `ball` (robot frame, m; default the spec's). The
     backswing runs to the pull-back: the waypoint farthest back against the kick's
-    direction. A backswing that
-    grazes the ball rolls it off the strike's path (type 4's toe clipped it in most
-    walking IK 45-in kicks)."""
+    direction. A backswing that grazes the ball rolls it off the strike's path (type
+    4's toe clipped it in most walking IK 45-in kicks). Leaves `kick` reset to the
+    spec's ball."""
     sc = _SCENES.setdefault(kick.robot_type, _Scene(kick.robot_type))
     m, d = sc.model, sc.data
     kick.reset(ball)
