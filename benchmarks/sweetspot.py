@@ -5,7 +5,7 @@ parameter set names the ball's offset from the robot (`ball_x`, `ball_y`) that
 the approach must bring it to, within the set's tolerance box. This benchmark
 measures how the kick fares around that offset: for each robot type and
 keyframe set, `--tries` standing kicks per foot (`optimization.kick.kick_trial`,
-the robot placed within `--spread` of the pose) with the ball moved by (dx, dy)
+the robot placed within `SPREAD`, 2 mm and 0.5 deg sd) with the ball moved by (dx, dy)
 on a square grid of `--step` mm out to `--half` mm. dy is in the left foot's
 frame (+ is farther out for the left foot); right-foot kicks are mirrored into
 it, so both feet share one grid, as they share one parameter set.
