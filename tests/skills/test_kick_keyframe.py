@@ -236,7 +236,8 @@ def test_a_later_parameter_file_overrides(tmp_path):
     assert kicks["kick_left"].spec.ball[0] == pytest.approx(0.2)
     assert kicks["kick_2m_right"].spec.ball[0] == pytest.approx(0.2)  # inherits kick_
     base = kicks["kick_left"].skill
-    assert kicks["kick_2m_left"].skill.duration == pytest.approx(base.duration - base.keyframes[5].wait + 0.3)
+    # keyframes[6] is k4 (k0, ka, k1, k2, k3, k3b, k4, ...)
+    assert kicks["kick_2m_left"].skill.duration == pytest.approx(base.duration - base.keyframes[6].wait + 0.3)
     assert kicks["kick_9m_left"].spec.distance == 9.0  # a new set from a later file
 
 
