@@ -25,8 +25,9 @@ Tasks (fitness higher is better; `FALL_PENALTY` per fall):
   D m straight along its direction; fitness = -(distance from the ball's stop
   to that point) (m). Learns the keyframe kick set given by ``set=`` (default
   ``kick``).
-* ``long_kick``: a standing kick as far as possible along its direction;
-  fitness = progress toward the target (m) - |lateral miss| / 2.
+* ``long_kick`` (``fall=P``: P m per fall instead of `FALL_PENALTY`): a standing
+  kick as far as possible along its direction; fitness = progress toward the
+  target (m) - |lateral miss| / 2.
 * ``kick_walking``: approach from 1-2 m and kick; fitness = progress toward
   the target (m) - 0.2 x seconds until contact.
 * ``approach`` (``kick=NAME``, default ``ik_forward``; ``any``: each trial
@@ -159,6 +160,8 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
 _SIGMA = {"deg": 6.0, "s": 0.04, "mm": 8.0}
 _BOUNDS = {"deg": (-200.0, 200.0), "s": (0.02, 1.5), "mm": (-300.0, 300.0)}
 FIXED = ("tol_x", "tol_y", "tol_angle", "distance", "direction")  # spec fields never learned
+# k3b, the start of the swing, is skipped at a wait of 0 (every kick but the long kick)
+_OWN_BOUNDS = {"k3b_wait": (0.0, 1.5)}
 
 
 def kick_param_set(set_name: str) -> ParamSetDef:
@@ -176,7 +179,8 @@ def kick_param_set(set_name: str) -> ParamSetDef:
         elif n == "slew":  # deg/s of the slow keyframes
             specs.append(ParamSpec(n, 20.0, 10.0, 2000.0))
         else:
-            specs.append(ParamSpec(n, _SIGMA.get(u, 0.05), *_BOUNDS.get(u, (-math.inf, math.inf))))
+            bounds = _OWN_BOUNDS.get(n, _BOUNDS.get(u, (-math.inf, math.inf)))
+            specs.append(ParamSpec(n, _SIGMA.get(u, 0.05), *bounds))
     specs = tuple(specs)
     return ParamSetDef(name=set_name, prefix=f"{set_name}_", schema=schema, specs=specs,
                        defaults=kick_param_files, inherit=None if set_name == BASE_SET else BASE_SET)
@@ -244,7 +248,8 @@ class KickTask:
     """A keyframe kick trial; see the module docstring for the kinds and their fitness.
 
     kind: one of `KINDS`; set: the learned keyframe kick set; distance: m, the
-    fixed-distance kick's target; feet: trials alternate feet when 2, else left.
+    fixed-distance kick's target; feet: trials alternate feet when 2, else left;
+    fall: fitness lost per fall (m; `FALL_PENALTY` unless a task asks for more).
     """
 
     name: str = "kick_distance"
@@ -252,12 +257,15 @@ class KickTask:
     set: str = BASE_SET
     distance: float = 5.0
     feet: int = 2
+    fall: float = FALL_PENALTY
 
     def __post_init__(self) -> None:
         if self.name not in KINDS:
             raise ValueError(f"kick task must be one of {', '.join(KINDS)}, not {self.name!r}")
         if self.distance <= 0:
             raise ValueError(f"distance must be positive, not {self.distance}")
+        if self.fall < 0:
+            raise ValueError(f"fall must not be negative, not {self.fall}")
 
     @property
     def sets(self) -> tuple[str, ...]:
@@ -269,7 +277,7 @@ class KickTask:
 
     @property
     def worst(self) -> float:
-        return -FALL_PENALTY - 2.0 * self.distance - 10.0
+        return -self.fall - 2.0 * self.distance - 10.0
 
     def trial(self, values: Values, seed: int) -> TrialResult:
         from optimization.task import TrialResult
@@ -285,7 +293,7 @@ class KickTask:
             fitness = r["toward"] - 0.5 * abs(r["lateral"])
         else:
             fitness = r["toward"] - 0.2 * (r["contact_s"] if r["contact_s"] is not None else APPROACH_LIMIT)
-        fitness -= FALL_PENALTY * r["fell"]
+        fitness -= self.fall * r["fell"]
         return TrialResult(float(fitness), {**r, "foot": FOOT_NAME[foot]})
 
 
@@ -352,8 +360,8 @@ def kick_distance(robot_type: int = 0, distance: float = 5.0, set: str = BASE_SE
     return KickTask("kick_distance", robot_type, set, distance)
 
 
-def long_kick(robot_type: int = 0, set: str = "long_kick") -> KickTask:
-    return KickTask("long_kick", robot_type, set)
+def long_kick(robot_type: int = 0, set: str = "long_kick", fall: float = FALL_PENALTY) -> KickTask:
+    return KickTask("long_kick", robot_type, set, fall=fall)
 
 
 def kick_walking(robot_type: int = 0, set: str = BASE_SET) -> KickTask:

@@ -65,7 +65,7 @@ SLEW_SCHEMA: dict[str, str] = {"slew": "deg"}
 # `START_PITCH_RATE`.
 START_PITCH_RATE = 0.1  # rad/s, gyro y (0.0-0.2 do about as well)
 START_WAIT = 0.3  # s
-FAST_KEYFRAMES = (4, 5)  # indices of k3 and k4 (pull back, swing) in KICK_LEFT: their targets jump
+FAST_KEYFRAMES = (4, 5, 6)  # indices of k3, k3b and k4 (pull back, swing) in KICK_LEFT: their targets jump
 
 
 def default_param_files(robot_type: int | None = None) -> list[str]:
@@ -149,7 +149,7 @@ class KeyframeKick:
 
     `step` plays the keyframes on the percept's clock from the joint angles the
     robot has when it starts (the walk's stand pose) and ends in the stand pose.
-    Outside the pull-back and swing (k3, k4) the targets move toward the keyframe's at most `slew`
+    Outside the pull-back and swing (k3, k3b, k4) the targets move toward the keyframe's at most `slew`
     rad/s, so the weight shift and the lift are gentle and only the swing is fast.
     Between the first and the last keyframe the support ankle follows `balance`
     (feedback on the torso's tilt from the percept's gyro and accelerometer).

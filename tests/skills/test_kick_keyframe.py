@@ -109,8 +109,8 @@ def min_distance(spec: KickSpec) -> float:
 
 
 # m: what the general and the long kick reach at least on type 0 (the goal for a
-# keyframe kick; they measure about 6.4 m with the league's ball drag)
-MIN_KICK_DISTANCE = {"kick": 5.0, "long_kick": 5.0}
+# keyframe kick; with the league's ball drag the kick measures about 6.4 m, the long kick 9)
+MIN_KICK_DISTANCE = {"kick": 5.0, "long_kick": 6.4}
 
 
 @pytest.mark.parametrize("foot", ["l", "r"])
@@ -121,6 +121,25 @@ def test_kick_moves_the_ball_forward_without_falling(set_name, foot):
     assert not out.fell
     assert out.distance >= max(min_distance(kick.spec), MIN_KICK_DISTANCE[set_name]), out
     assert abs(angle_error(out.direction, kick.spec.direction)) < DIRECTION_TOLERANCE[set_name], out
+
+
+LONG_KICK_SHARE = 0.8  # of its nominal distance, what most long kicks reach at least
+
+
+@pytest.mark.parametrize("foot", ["l", "r"])
+def test_long_kick_reaches_most_of_its_nominal_distance(foot):
+    # The long kick (type 0) swings the thigh ahead of the knee's snap with the support hip
+    # opening (learned by CMA-ES, kick.params): about 9 m where the old one went 6.3 m.
+    # It still falls or misses (the lifting foot brushes the ball) about one kick in eight
+    # from a rocking stand, so of 4 seeded kicks (ball offsets within +-5 mm, started at 4
+    # moments of the rocking) 3 must reach 80% of the nominal distance without a fall.
+    kick = KeyframeKick.load("long_kick", foot, 0)
+    assert kick.spec.distance >= 8.0
+    outs = [kick_once(kick, 0, offset=off, hold=0.6 + 0.1 * i)
+            for i, off in enumerate(offsets(seed=11, n=4, spread=0.005))]
+    far = [o for o in outs if not o.fell and o.distance >= LONG_KICK_SHARE * kick.spec.distance
+           and abs(angle_error(o.direction, kick.spec.direction)) < DIRECTION_TOLERANCE["long_kick"]]
+    assert len(far) >= 3, outs
 
 
 @pytest.mark.parametrize("robot_type", [1, 2, 3, 4])
@@ -236,7 +255,8 @@ def test_a_later_parameter_file_overrides(tmp_path):
     assert kicks["kick_left"].spec.ball[0] == pytest.approx(0.2)
     assert kicks["kick_2m_right"].spec.ball[0] == pytest.approx(0.2)  # inherits kick_
     base = kicks["kick_left"].skill
-    assert kicks["kick_2m_left"].skill.duration == pytest.approx(base.duration - base.keyframes[5].wait + 0.3)
+    # keyframes[6] is k4 (k0, ka, k1, k2, k3, k3b, k4, ...)
+    assert kicks["kick_2m_left"].skill.duration == pytest.approx(base.duration - base.keyframes[6].wait + 0.3)
     assert kicks["kick_9m_left"].spec.distance == 9.0  # a new set from a later file
 
 
