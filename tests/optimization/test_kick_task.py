@@ -126,7 +126,9 @@ def test_an_approach_that_creeps_scores_worse_than_the_shipped_one():
     task = make_task("approach")
     good = task.trial(load_values(task.sets, 0), 3)
     slow = load_values(task.sets, 0)
-    slow["approach"].update(max_decel_x=0.02, max_decel_y=0.02, creep=0.05, max_turn=0.05, fast=2.0)
+    # A crawl: slow creep and turns, and every turn left to the creep (enter_turn 180 deg).
+    slow["approach"].update(max_decel_x=0.02, max_decel_y=0.02, creep=0.05, max_turn=0.05, fast=2.0,
+                            enter_turn=180.0)
     bad = task.trial(slow, 3)
     assert good.info["kicked"] and good.info["toward"] > 1.0, good
     assert good.fitness > bad.fitness + 1.0, (good, bad)
