@@ -86,7 +86,7 @@ class ApproachParams:
     fix_time: float = 0.768  # s: longest burst of steps fixing a small error before looking again
     smooth: float = 0.02  # s: time constant of the low-passed error used to line up
     after_align: float = 1.5  # the kick's box grows by this factor once an align has moved the robot
-    enter_turn: float = math.radians(60.0)  # rad: the creep takes over only within this heading error
+    enter_turn: float = math.radians(25.0)  # rad: the creep takes over only within this heading error
     around_turn_gain: float = 1.0  # going round the ball: turn input per heading error to the waypoint / pi
 
     @classmethod
