@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skills.imu import GRAVITY
 from skills.params import PathLike, load_params, with_type_file
 from skills.skill import Skill, SkillPlayer, read_skills, skill_path
 
@@ -37,6 +38,11 @@ class FallDetector:
     falling_tilt: float = math.radians(30.0)  # rad: falling beyond, if also turning fast
     falling_rate: float = 1.5  # rad/s of gyro x-y rate that counts as "fast"
     rest_rate: float = 1.0  # rad/s: a fallen robot turning slower than this has landed
+    # m/s^2: at rest the accelerometer reads gravity alone. Walking, foot strikes swing
+    # it by 20-30 m/s^2 (z even reads -20 upright), enough to tip the low-passed vector
+    # past fallen_tilt for several calm-gyro cycles: a getup then started on an upright
+    # walking robot (benchmarks.walk's course, type 3).
+    rest_accel: float = 2.5
     settle_cycles: int = 5  # cycles on one side, at rest, before that side is reported
     smoothing: float = 0.3  # weight of a new accelerometer sample in the low-pass filter
 
@@ -63,19 +69,22 @@ class FallDetector:
     def update(self, accel: np.ndarray, gyro: np.ndarray) -> str:
         """Take one cycle's accelerometer and gyro (torso frame) and return the new `state`.
 
-        A side is reported once the robot has lain on it, turning slower than
-        `rest_rate`, for `settle_cycles` cycles; until then a tilted robot is FALLING.
+        A side is reported once the robot has lain on it at rest (turning slower than
+        `rest_rate`, the accelerometer within `rest_accel` of gravity) for
+        `settle_cycles` cycles; until then a tilted robot is FALLING.
         """
-        self.accel += self.smoothing * (np.asarray(accel, dtype=float) - self.accel)
+        accel = np.asarray(accel, dtype=float)
+        self.accel += self.smoothing * (accel - self.accel)
         tilt = self.tilt
         rate = math.hypot(gyro[0], gyro[1])
+        still = abs(float(np.linalg.norm(accel)) - GRAVITY) < self.rest_accel
         if tilt > self.fallen_tilt:
             ax, ay = self.accel[0], self.accel[1]
             if abs(ax) >= abs(ay):
                 side = BACK if ax > 0 else FRONT
             else:
                 side = RIGHT if ay > 0 else LEFT
-            resting = math.hypot(rate, gyro[2]) < self.rest_rate
+            resting = math.hypot(rate, gyro[2]) < self.rest_rate and still
             self._count = self._count + 1 if side == self._side and resting else int(resting)
             self._side = side
             self.state = side if self._count >= self.settle_cycles else FALLING

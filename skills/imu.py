@@ -79,9 +79,18 @@ class TiltEstimator:
         return math.acos(max(-1.0, min(1.0, a[2] / n))) if n > 1e-6 else 0.0
 
     @property
+    def fused_tilt(self) -> float:
+        """Angle (rad) between the torso's z axis and the vertical, from the fused roll and pitch."""
+        c = math.cos(self.roll) * math.cos(self.pitch)
+        return math.acos(max(-1.0, min(1.0, c)))
+
+    @property
     def fallen(self) -> bool:
-        """True while the torso leans more than `fall_angle` from vertical."""
-        return self.tilt > self.fall_angle
+        """True while the torso leans more than `fall_angle` from vertical, by the smoothed
+        accelerometer and by the fused estimate both. Walking, foot strikes alone can tip the
+        smoothed accelerometer past 80 deg on an upright torso, whose fused tilt stays near
+        10 deg; a robot that took that for a fall froze mid-step and toppled."""
+        return self.tilt > self.fall_angle and self.fused_tilt > self.fall_angle
 
     @property
     def fall_direction(self) -> str | None:

@@ -13,6 +13,7 @@ from skills.control import JointPid
 from skills.falls import BACK, FALLING, FRONT, LEFT, RIGHT, UPRIGHT, FallDetector, Getup
 from skills.params import ParamError
 from skills.skill import read_skills, skill_path
+from tests.skills.imu_traces import WALK_A, WALK_B
 
 
 def lone_world(robot_type: int) -> World:
@@ -46,6 +47,15 @@ def test_detector_ignores_a_single_spike():
     d = FallDetector()
     d.update(np.array([0.0, 0.0, 9.81]), np.zeros(3))
     assert d.update(np.array([-30.0, 0.0, 0.0]), np.zeros(3)) != FRONT
+
+
+def test_detector_ignores_foot_strikes_while_walking():
+    # Recorded on an upright walking robot: the low-passed accelerometer tipped past 60 deg
+    # for five calm-gyro cycles, and the front getup started; at rest it reads gravity alone.
+    for accel, gyro in (WALK_A, WALK_B):
+        d = FallDetector()
+        states = [d.update(np.array(a), np.array(g)) for a, g in zip(accel * 2, gyro * 2)]
+        assert not any(s in (FRONT, BACK, LEFT, RIGHT) for s in states)
 
 
 @pytest.mark.parametrize("lying, state", [("front", FRONT), ("back", BACK), (None, UPRIGHT)])

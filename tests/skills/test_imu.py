@@ -5,6 +5,7 @@ import math
 import numpy as np
 
 from skills.imu import GRAVITY, TiltEstimator
+from tests.skills.imu_traces import WALK_A, WALK_B
 
 
 def _roll_over(est: TiltEstimator, rate: float, seconds: float, dt: float = 0.02) -> list[float]:
@@ -34,3 +35,26 @@ def test_roll_follows_a_lean():
     for _ in range(100):  # held at 0.5 rad
         est.update(np.zeros(3), GRAVITY * np.array([0.0, math.sin(0.5), math.cos(0.5)]), 0.02)
     assert abs(est.roll - 0.5) < math.radians(1.0)
+
+
+def test_foot_strikes_while_walking_are_not_a_fall():
+    # Recorded on an upright walking robot: the smoothed accelerometer alone passed the
+    # fall angle (the robot froze mid-step and toppled); the fused tilt says upright.
+    for accel, gyro in (WALK_A, WALK_B):
+        est = TiltEstimator()
+        est.update(np.zeros(3), np.array([0.0, 0.0, GRAVITY]), 0.02)
+        for a, g in zip(accel * 2, gyro * 2):
+            est.update(np.array(g), np.array(a), 0.02)
+            assert not est.fallen
+            assert est.fused_tilt < math.radians(30.0)
+
+
+def test_a_real_fall_is_seen():
+    est = TiltEstimator()
+    _roll_over(est, 2.0, 0.8)  # to 92 deg in 0.8 s
+    lying = GRAVITY * np.array([0.0, 1.0, 0.0])
+    seen = []
+    for _ in range(25):  # lying on its side, still
+        est.update(np.zeros(3), lying, 0.02)
+        seen.append(est.fallen)
+    assert seen.index(True) < 10 and all(seen[10:])
