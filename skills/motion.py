@@ -24,10 +24,9 @@ HEAD = ("hj1", "hj2")
 HOLD_AFTER_GETUP = 1.0  # s the getup's last pose holds once the robot is up
 SETTLE_AFTER_GETUP = 0.5  # s of the walk's stand after that, before the walk may go on
 # s of the walk's stand after a reset (a beam) before the walk may step: the robot lands on
-# its feet from the beam. Walking at once, 24 of 30 walking kick trials (type 1, kick_3m_left
-# and ik_forward_right) fell in their first 3 s, none after a stand of 0.3 or 0.5 s. Before
-# the tilt estimate's start was mended, its misread first sample had kept most robots from
-# walking off at once by accident.
+# its feet from the beam. Walking at once, walking kick trials fell in their first second
+# (type 1's kick_3m: 5 of 6); before the tilt estimate's start was mended, a misread first
+# accelerometer sample had held about half of all robots still that long by accident.
 SETTLE_AFTER_RESET = 0.5
 GETUP_GAINS = (UT_KP, 0.0)  # joint kp (1/s) and feed-forward factor while a getup plays
 
