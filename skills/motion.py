@@ -23,11 +23,6 @@ from skills.walk import WalkEngine, WalkOutput
 HEAD = ("hj1", "hj2")
 HOLD_AFTER_GETUP = 1.0  # s the getup's last pose holds once the robot is up
 SETTLE_AFTER_GETUP = 0.5  # s of the walk's stand after that, before the walk may go on
-# s of the walk's stand after a reset (a beam) before the walk may step: the robot lands on
-# its feet from the beam. Walking at once, walking kick trials fell in their first second
-# (type 1's kick_3m: 5 of 6); before the tilt estimate's start was mended, a misread first
-# accelerometer sample had held about half of all robots still that long by accident.
-SETTLE_AFTER_RESET = 0.5
 GETUP_GAINS = (UT_KP, 0.0)  # joint kp (1/s) and feed-forward factor while a getup plays
 
 
@@ -51,7 +46,6 @@ class Motion:
         self._hold_until = -1.0
         self._getup_pose: np.ndarray | None = None
         self._saved_gains: tuple[np.ndarray, float] | None = None  # while a skill's gains are on
-        self._settle_from: float | None = None  # percept time of the first walk cycle after a reset
 
     def reset(self) -> None:
         """After a beam, a getup or anything that moved the body by other means."""
@@ -59,7 +53,6 @@ class Motion:
         self.pid.reset()
         self.tilt = TiltEstimator()
         self._prev_target = None
-        self._settle_from = None  # the first walk cycle after this starts `SETTLE_AFTER_RESET`
 
     def sense(self, percept: Percept) -> tuple[float, float]:
         """Update the tilt estimate from the percept; returns (pitch, roll) in rad."""
@@ -136,14 +129,8 @@ class Motion:
 
     def walk_step(self, percept: Percept, x: float, y: float, turn: float,
                   set_name: str = "go_to_target", head: np.ndarray | None = None) -> np.ndarray:
-        """Joint velocities for one walk cycle; `head` angles (hj1, hj2) if given. For
-        `SETTLE_AFTER_RESET` s from the first call after a reset (or since the Motion was
-        made) the walk stands, whatever it is asked."""
+        """Joint velocities for one walk cycle; `head` angles (hj1, hj2) if given."""
         pitch, roll = self.sense(percept)
-        if self._settle_from is None:
-            self._settle_from = percept.time
-        if percept.time - self._settle_from < SETTLE_AFTER_RESET - 1e-9:
-            x = y = turn = 0.0  # just beamed: stand until the body has landed
         self.pid.kp[:] = self.walk.sets[set_name].joint_kp if set_name in self.walk.sets else self.pid.kp
         out = self.walk.update(x, y, turn, set_name, tilt=pitch, roll=roll, gyro=percept.gyro,
                                joints=percept.joints)
