@@ -22,11 +22,6 @@ import numpy as np
 from skills.frames import rot_x, rot_y
 
 GRAVITY = 9.81  # m/s^2
-# The estimate starts from the first accelerometer reading within this share of gravity.
-# The first percept after a beam reads about (0, 0, -0), the robot dropping onto its feet
-# in free fall: atan2 of those signed zeros started the roll at pi, and the robot took
-# itself for fallen for its first 1-2 s.
-START_TOLERANCE = 0.5
 
 
 class TiltEstimator:
@@ -54,10 +49,8 @@ class TiltEstimator:
             return
         if self._started:
             self._acc += self.accel_smoothing * (accel - self._acc)
-        elif abs(float(np.linalg.norm(accel)) - GRAVITY) < START_TOLERANCE * GRAVITY:
+        else:
             self._acc[:] = accel
-        else:  # free fall (the first percept after a beam) or a jolt: wait for gravity
-            return
         ax, ay, az = self._acc
         acc_roll = math.atan2(ay, az)
         acc_pitch = math.atan2(-ax, math.hypot(ay, az))

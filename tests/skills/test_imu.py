@@ -58,12 +58,3 @@ def test_a_real_fall_is_seen():
         est.update(np.zeros(3), lying, 0.02)
         seen.append(est.fallen)
     assert seen.index(True) < 10 and all(seen[10:])
-
-
-def test_the_estimate_waits_for_a_real_reading():
-    # The first percept after a beam reads signed zeros (free fall): no start from it.
-    est = TiltEstimator()
-    est.update(np.zeros(3), np.array([-0.0, 0.0, -0.0]), 0.02)
-    for _ in range(5):
-        est.update(np.zeros(3), np.array([0.3, -0.2, GRAVITY]), 0.02)
-        assert est.fused_tilt < math.radians(5.0) and not est.fallen
