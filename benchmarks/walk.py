@@ -6,10 +6,11 @@ JSON line per robot type:
 
 * forward, backward, sideways speed (m/s) and turning rate (deg/s) over 10 s with
   the go-to-target walk set, and forward speed with the sprint set (UT's set for
-  a target straight ahead, dissertation A.1.4); each the mean over `--speed-runs`
-  runs, the first from the plain stand and the rest from perturbed joints (one
-  10 s run varies by about 0.02 m/s: type 4 sideways gave 0.148 once and 0.223
-  over six starts), with each run's figure beside it;
+  a target straight ahead, dissertation A.1.4); each the mean over the
+  `--speed-runs` runs that did not fall, the first from the plain stand and the
+  rest from perturbed joints (one 10 s run varies by about 0.02 m/s: type 4
+  sideways gave 0.148 once and 0.223 over six starts), with each run's figure
+  and the falls among them beside it;
 * the go-to-target course (waypoints and stops modeled on Figure A.1: long
   straight walks, a curve, quick direction changes, stop and go, a spiral),
   walked by dead reckoning on the walk's own odometry: falls, time, how far
@@ -153,16 +154,18 @@ SPEEDS = {  # JSON key: (walk inputs, walk set, what is measured, sign)
 
 def speeds(t: int, seconds: float, runs: int) -> dict:
     """Every `SPEEDS` figure as the mean over `runs` constant walks (the first from the
-    plain stand, the rest from perturbed joints, seeded by type), each run's figure in
-    `<key>_runs`, and the falls among them."""
+    plain stand, the rest from perturbed joints, seeded by type) that did not fall (over
+    all of them if every one fell), each run's figure in `<key>_runs` (a fallen run's
+    up to its fall), and the falls among them."""
     row: dict = {"speed_runs": runs}
     falls: dict[str, int] = {}
     for i, (key, (cmd, set_name, what, sign)) in enumerate(SPEEDS.items()):
         rng = np.random.default_rng([t, i])
         results = [constant_walk(t, cmd, seconds, set_name, None if k == 0 else rng) for k in range(runs)]
         values = [sign * r[what] for r in results]
+        upright = [v for v, r in zip(values, results) if not r["fell"]] or values
         digits = 1 if what == "turn_deg_s" else 3
-        row[key] = round(float(np.mean(values)), digits)
+        row[key] = round(float(np.mean(upright)), digits)
         row[key + "_runs"] = [round(v, digits) for v in values]
         falls[key.removesuffix("_m_s").removesuffix("_deg_s")] = sum(r["fell"] for r in results)
     row["falls_in_speed_runs"] = falls
