@@ -205,7 +205,7 @@ def main() -> None:
         if not args.skip_speeds:
             row.update(speeds(t, args.seconds, args.speed_runs))
         rng = np.random.default_rng(t)
-        runs = [course(t, rng=None if k == 0 else rng) for k in range(max(1, args.course_runs))]
+        runs = [course(t, rng=None if k == 0 else rng) for k in range(args.course_runs)]
         fell = sum(r["falls"] > 0 for r in runs)
         row["course"] = runs[0] if len(runs) == 1 else {
             "runs": len(runs), "falls": [r["falls"] for r in runs],

@@ -51,7 +51,7 @@ class FallDetector:
 
     def reset(self) -> None:
         """Forget the filtered accelerometer (assume upright)."""
-        self.accel = np.array([0.0, 0.0, 9.81])
+        self.accel = np.array([0.0, 0.0, GRAVITY])
         self.state = UPRIGHT
         self._side = UPRIGHT
         self._count = 0
@@ -77,14 +77,14 @@ class FallDetector:
         self.accel += self.smoothing * (accel - self.accel)
         tilt = self.tilt
         rate = math.hypot(gyro[0], gyro[1])
-        still = abs(float(np.linalg.norm(accel)) - GRAVITY) < self.rest_accel
         if tilt > self.fallen_tilt:
             ax, ay = self.accel[0], self.accel[1]
             if abs(ax) >= abs(ay):
                 side = BACK if ax > 0 else FRONT
             else:
                 side = RIGHT if ay > 0 else LEFT
-            resting = math.hypot(rate, gyro[2]) < self.rest_rate and still
+            resting = (math.hypot(rate, gyro[2]) < self.rest_rate
+                       and abs(math.sqrt(float(accel @ accel)) - GRAVITY) < self.rest_accel)
             self._count = self._count + 1 if side == self._side and resting else int(resting)
             self._side = side
             self.state = side if self._count >= self.settle_cycles else FALLING
