@@ -211,7 +211,7 @@ class IkKick:
         self._t0: float | None = None
         self._t = 0.0
         self._done = False
-        self.tilt = TiltEstimator()
+        self.tilt = TiltEstimator(from_first=True)  # as the kick was tuned
         self._build(self.ball)
         self.unreachable = self.check(self.ball)
         if self.unreachable and self.strict:

@@ -11,6 +11,15 @@ so walking accelerations do not shake the estimate. The pull is fairly strong
 about y while the pitch stays within 0.4 deg), and the gyro sampled every 20 ms
 integrates that into a drift of about 1 deg/s. Measured on a standing robot:
 0.23 deg rms pitch error, 0.06 deg roll.
+
+By default the estimate starts upright (roll = pitch = 0, the accelerometer at
+gravity): it is made or reset with the robot on its feet, after a beam or in a
+stand. The first readings after a beam are of the robot landing: about (0, 0, -0)
+in free fall, then jolts of 5-16 m/s^2 in any direction for about 0.2 s. Started
+from one of them, the roll began anywhere up to +-180 deg and took 1-2 s to come
+back; the walk's balance terms tilted the feet by it, or the robot took itself for
+fallen and froze. The kicks start theirs from the first reading (`from_first`) on a
+robot already standing: their balance was tuned so.
 """
 
 from __future__ import annotations
@@ -29,18 +38,19 @@ class TiltEstimator:
 
     `blend` is the share of the accelerometer's answer taken each cycle (0..1);
     `fall_angle` is the tilt from vertical (rad) beyond which the robot counts as
-    fallen, judged on the low-passed accelerometer.
+    fallen, judged on the low-passed accelerometer and the fused estimate both;
+    `from_first`: start from the first reading instead of upright.
     """
 
     def __init__(self, blend: float = 0.05, fall_angle: float = math.radians(55.0),
-                 accel_smoothing: float = 0.1) -> None:
+                 accel_smoothing: float = 0.1, from_first: bool = False) -> None:
         self.blend = blend
         self.fall_angle = fall_angle
         self.accel_smoothing = accel_smoothing
         self.roll = 0.0
         self.pitch = 0.0
         self._acc = np.array([0.0, 0.0, GRAVITY])
-        self._started = False
+        self._started = not from_first
 
     def update(self, gyro: np.ndarray, accel: np.ndarray, dt: float) -> None:
         """One cycle: gyro (rad/s) and accelerometer (m/s^2) in the torso frame, dt in s."""

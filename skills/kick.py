@@ -168,7 +168,7 @@ class KeyframeKick:
         self._ankle_roll = names.index(f"{side}lj6")
         self._ankle_pitch = names.index(f"{side}lj5")
         self._hip_roll = names.index(f"{side}lj2")
-        self.tilt = TiltEstimator()
+        self.tilt = TiltEstimator(from_first=True)  # as the kick was tuned
         self._ref: tuple[float, float] | None = None
         self._target: np.ndarray | None = None
         self._asked: float | None = None  # s: when the first step came (the kick waits for its phase)
@@ -189,7 +189,7 @@ class KeyframeKick:
     def reset(self, ball: tuple[float, float] | None = None) -> None:
         """Start over at the next `step` (the ball estimate is not used: the kick is fixed)."""
         self.player.reset()
-        self.tilt = TiltEstimator()
+        self.tilt = TiltEstimator(from_first=True)  # as the kick was tuned
         self._ref = None
         self._target = None
         self._asked = None
