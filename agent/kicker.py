@@ -52,6 +52,11 @@ SOLE_FORCE = 10.0  # N under a sole before it counts as flat on the ground
 LANDMARK_GAIN = 0.2  # share of a landmark fix taken into the dead-reckoned pose per vision frame
 LANDMARK_GATE = math.radians(30.0)  # heading fixes farther off than this are ignored
 LANDMARK_GATE_M = 1.0  # m: pose fixes farther than this from the dead-reckoned position are ignored
+# Joint gains (kp 1/s, feed-forward factor) of the kicks, the align and the stand while
+# watching to kick, whatever walk set ran last: they were tuned at walk_defaults.txt's
+# joint_kp. Type 3 walks softer (18); its keyframe kicks at that gain, and after a stand at
+# it, fell short (kick_left 6.5 -> 4.8 and 5.0 m standing).
+SKILL_GAINS = (21.2, 1.0)
 
 APPROACH, KICK, DONE, WATCH, ALIGN = "approach", "kick", "done", "watch", "align"
 
@@ -196,13 +201,13 @@ class Kicker:
             assert self.kick is not None
             target = self.kick.step(percept)
             if not self.kick.done:
-                return self.motion.command(target, percept)
+                return self._skill_command(target, percept)
             self.state = DONE
             self._final = target.copy()
         if self.state in (DONE, WATCH):
             if self._final is not None:  # after a kick: hold its last (standing) pose; the walk's
-                return self.motion.command(self._final, percept)  # stop-jog tips robots over
-            return self._walk(percept, 0.0, 0.0, 0.0)
+                return self._skill_command(self._final, percept)  # stop-jog tips robots over
+            return self._walk(percept, 0.0, 0.0, 0.0, kp=SKILL_GAINS[0])  # the stand a kick starts from
         return self._approach(percept)
 
     def _head(self, percept: Percept) -> np.ndarray:
@@ -211,12 +216,13 @@ class Kicker:
         return np.array([yaw, HEAD_PITCH])
 
     def _walk(self, percept: Percept, x: float, y: float, turn: float,
-              set_name: str = "go_to_target") -> np.ndarray:
+              set_name: str = "go_to_target", kp: float | None = None) -> np.ndarray:
         walk = self.motion.walk
         if set_name != self._set and walk.walking and not walk.step_begins():
             set_name = self._set  # change sets only as a step begins (mid-swing it can trip)
         self._set = set_name
-        v = self.motion.walk_step(percept, x, y, turn, set_name, head=self._head(percept))
+        self.motion.skill_gains(None)  # the walk's own gains again after a kick or an align
+        v = self.motion.walk_step(percept, x, y, turn, set_name, head=self._head(percept), kp=kp)
         if self.motion.last is not None:
             dx, dy, _ = self.motion.last.odometry
             self.odo.update(dx, dy, 0.0)
@@ -327,7 +333,7 @@ class Kicker:
             self.state = KICK
             self.kick_started = percept.time
             self.kick.reset(self.ball_relative())
-            return self.motion.command(self.kick.step(percept), percept)
+            return self._skill_command(self.kick.step(percept), percept)
         if cmd.mode == "align" and standing:
             self.state = ALIGN
             self._align_start = self.pose
@@ -351,6 +357,11 @@ class Kicker:
             self.state = APPROACH
             self.approach.aligned()
             self.motion.walk.reset()
+        return self._skill_command(target, percept)
+
+    def _skill_command(self, target: np.ndarray, percept: Percept) -> np.ndarray:
+        """Joint velocities toward a kick's or the align's `target`, at `SKILL_GAINS`."""
+        self.motion.skill_gains(SKILL_GAINS)
         return self.motion.command(target, percept)
 
     def _quick_stop(self) -> None:

@@ -28,6 +28,7 @@ import zlib
 import mujoco
 import numpy as np
 
+from agent.kicker import SKILL_GAINS
 from benchmarks.walk import new_robot
 from models import nao
 from models.field import BALL_RADIUS
@@ -48,8 +49,9 @@ def kick_trial(t: int, kick: IkKick, offset: tuple[float, float] = (0.0, 0.0), r
     along (m, displacement along spec.direction), fell, contact time (s)."""
     tr, mo = new_robot(t)
     w = tr.world
-    for _ in range(round(stand / 0.02)):
-        tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0))})
+    for _ in range(round(stand / 0.02)):  # stand and kick at the kicks' gains, as the Kicker does
+        tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0, kp=SKILL_GAINS[0]))})
+    mo.skill_gains(SKILL_GAINS)
     x0, y0, h0 = w.player_pose(0)
     c, s = math.cos(h0), math.sin(h0)
     bx, by = kick.spec.ball[0] + offset[0], kick.spec.ball[1] + offset[1]

@@ -128,10 +128,15 @@ class Motion:
         return self._recovering
 
     def walk_step(self, percept: Percept, x: float, y: float, turn: float,
-                  set_name: str = "go_to_target", head: np.ndarray | None = None) -> np.ndarray:
-        """Joint velocities for one walk cycle; `head` angles (hj1, hj2) if given."""
+                  set_name: str = "go_to_target", head: np.ndarray | None = None,
+                  kp: float | None = None) -> np.ndarray:
+        """Joint velocities for one walk cycle; `head` angles (hj1, hj2) if given; `kp`
+        (1/s) instead of the walk set's joint gain."""
         pitch, roll = self.sense(percept)
-        self.pid.kp[:] = self.walk.sets[set_name].joint_kp if set_name in self.walk.sets else self.pid.kp
+        if kp is not None:
+            self.pid.kp[:] = kp
+        elif set_name in self.walk.sets:
+            self.pid.kp[:] = self.walk.sets[set_name].joint_kp
         out = self.walk.update(x, y, turn, set_name, tilt=pitch, roll=roll, gyro=percept.gyro,
                                joints=percept.joints)
         self.last = out

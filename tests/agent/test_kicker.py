@@ -1,4 +1,5 @@
-"""The striker's dead reckoning: landmark fixes pull the pose, misfits are ignored (no physics)."""
+"""The striker (no physics): landmark fixes pull the pose, misfits are ignored; kicks play at
+their own joint gains."""
 
 import math
 
@@ -6,9 +7,11 @@ import numpy as np
 import pytest
 
 from agent.geometry import landmarks_in_team
-from agent.kicker import LANDMARK_GAIN, Kicker
+from agent.kicker import APPROACH, KICK, LANDMARK_GAIN, SKILL_GAINS, Kicker
 from agent.perception import Observation
+from models.messages import Percept
 from skills.kicks import KickSpec
+from skills.walk import DATA, load_walk_sets
 
 
 class Hold:
@@ -45,3 +48,42 @@ def test_a_landmark_fix_pulls_the_pose_unless_it_is_far_off(offset, moves):
         assert (x, y) == pytest.approx((-5.0 + LANDMARK_GAIN * offset[0], 1.0 + LANDMARK_GAIN * offset[1]))
     else:  # a misfit (misread flags while the torso tilts) must not drag the pose 2 m a frame
         assert (x, y, h) == (-5.0, 1.0, 0.3)
+
+
+class StubKick:
+    """A kick that holds the stand pose for `cycles` cycles."""
+
+    spec = Hold.spec
+
+    def __init__(self, targets: np.ndarray, cycles: int = 3) -> None:
+        self.targets, self.left, self.done = targets, cycles, False
+
+    def reset(self, ball=None) -> None:
+        pass
+
+    def step(self, percept) -> np.ndarray:
+        self.left -= 1
+        self.done = self.left <= 0
+        return self.targets
+
+
+def test_kicks_play_at_the_gains_they_were_tuned_at_whatever_the_walk_uses():
+    assert SKILL_GAINS[0] == load_walk_sets([DATA / "walk_defaults.txt"])["go_to_target"].joint_kp
+    kicker = Kicker(3, {"hold": Hold()})
+    walk_kp = kicker.motion.walk.sets["go_to_target"].joint_kp
+    assert walk_kp != SKILL_GAINS[0]  # type 3 walks softer
+    kicker.start((0.0, 0.0, 0.0), (5.0, 0.0))
+    q = np.nan_to_num(kicker.motion.walk.update(0.0, 0.0, 0.0).targets)
+
+    def percept(t: float) -> Percept:
+        return Percept(t, t, "PlayOn", 0, 0, "L", 1, 3, q.copy(), np.zeros(3), np.array([0.0, 0.0, 9.81]),
+                       np.array([20.0, 20.0]))
+
+    kicker.act(percept(0.0))
+    assert np.all(kicker.motion.pid.kp == walk_kp)  # approaching: the walk's gain
+    kicker.kick, kicker.state = StubKick(q), KICK
+    kicker.act(percept(0.02))
+    assert np.all(kicker.motion.pid.kp == SKILL_GAINS[0])  # kicking: the kicks' own
+    kicker.state = APPROACH
+    kicker.act(percept(0.04))
+    assert np.all(kicker.motion.pid.kp == walk_kp)
