@@ -17,9 +17,9 @@ gravity): it is made or reset with the robot on its feet, after a beam or in a
 stand. The first readings after a beam are of the robot landing: about (0, 0, -0)
 in free fall, then jolts of 5-16 m/s^2 in any direction for about 0.2 s. Started
 from one of them, the roll began anywhere up to +-180 deg and took 1-2 s to come
-back; the walk's balance terms tilted the feet by it, or the robot took itself for
-fallen and froze. The kicks start theirs from the first reading (`from_first`) on a
-robot already standing: their balance was tuned so.
+back: vision was levelled by that roll, and started from a jolt (roll 142 deg) the
+robot took itself for fallen and froze. The kicks start theirs from the first reading
+(`from_first`) on a robot already standing: their balance was tuned so.
 """
 
 from __future__ import annotations
