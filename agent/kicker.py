@@ -41,7 +41,8 @@ from skills.imu import TiltEstimator
 from skills.kicks import KickSkill
 from skills.motion import Motion
 from skills.navigate import Odometry, wrap
-from skills.walk import WalkEngine, WalkParams
+from skills.walk import DATA as WALK_DATA
+from skills.walk import WalkEngine, WalkParams, load_walk_sets
 
 HEAD_PITCH = -0.6  # rad: looking down enough to see the ball at the feet
 SMOOTHING = 0.3  # weight of a new ball sighting in the kept estimate while walking
@@ -54,9 +55,9 @@ LANDMARK_GATE = math.radians(30.0)  # heading fixes farther off than this are ig
 LANDMARK_GATE_M = 1.0  # m: pose fixes farther than this from the dead-reckoned position are ignored
 # Joint gains (kp 1/s, feed-forward factor) of the kicks, the align and the stand while
 # watching to kick, whatever walk set ran last: they were tuned at walk_defaults.txt's
-# joint_kp. Type 3 walks softer (18); its keyframe kicks at that gain, and after a stand at
-# it, fell short (kick_left 6.5 -> 4.8 and 5.0 m standing).
-SKILL_GAINS = (21.2, 1.0)
+# joint_kp, read from there. Type 3 walks softer (18); its keyframe kicks at that gain, and
+# after a stand at it, fell short (kick_left 6.5 -> 4.8 and 5.0 m standing).
+SKILL_GAINS = (load_walk_sets([WALK_DATA / "walk_defaults.txt"])["go_to_target"].joint_kp, 1.0)
 
 APPROACH, KICK, DONE, WATCH, ALIGN = "approach", "kick", "done", "watch", "align"
 
