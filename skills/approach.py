@@ -13,9 +13,10 @@ the kick starts and in which direction (robot frame) it sends the ball.
 * `Approach`: walk inputs toward the pose. Far from it, or on the wrong side of
   the ball, it walks to a waypoint: straight to a staging point `stage` behind
   the pose when the way is clear, otherwise to where the path touches a circle
-  of radius `around` round the ball and then round it (the fast go-to-target
-  set only for walking on ahead; turning, stepping sideways and circling with
-  the steadier approach-to-kick set). Within `near` of the pose, and facing
+  of radius `around` round the ball and then round it, facing the ball as it
+  goes (UT's circling, dissertation D.1.6; the head keeps the ball in view).
+  The fast go-to-target set only for walking on ahead; turning, stepping
+  sideways and circling with the steadier approach-to-kick set. Within `near` of the pose, and facing
   within `enter_turn` of the kick's heading (else it first turns at the
   staging point: the creep turns slowly), it creeps in with the
   approach-to-kick set and UT's velocity rule, per axis of the robot frame::
@@ -71,7 +72,7 @@ class ApproachParams:
     max_turn: float = 0.235  # largest turn input near the ball
     max_speed: float = 0.645  # largest sideways and backward inputs near the ball
     near: float = 0.245  # m from the kick pose: the approach-to-kick set within it
-    around: float = 0.513  # m: radius of the circle round the ball
+    around: float = 0.38  # m: radius of the circle round the ball
     stage: float = 0.0977  # m behind the kick pose: where the go-to-target walk aims
     stop: float = 0.1  # fraction of the tolerance box that counts as lined up (creep, fix)
     creep: float = 0.236  # least forward input creeping up to the ball
@@ -87,7 +88,7 @@ class ApproachParams:
     smooth: float = 0.02  # s: time constant of the low-passed error used to line up
     after_align: float = 1.5  # the kick's box grows by this factor once an align has moved the robot
     enter_turn: float = math.radians(25.0)  # rad: the creep takes over only within this heading error
-    around_turn_gain: float = 1.0  # going round the ball: turn input per heading error to the waypoint / pi
+    around_turn_gain: float = 1.0  # going round the ball: turn input per heading error to the ball / pi
 
     @classmethod
     def load(cls, paths: Iterable[PathLike] = (), robot_type: int | None = None) -> ApproachParams:
@@ -367,16 +368,18 @@ class Approach:
         c, s = math.cos(rh), math.sin(rh)
         wdx, wdy = c * (wx - rx) + s * (wy - ry), -s * (wx - rx) + c * (wy - ry)
         dw = math.hypot(wdx, wdy)
-        # Going round, face the waypoint (the head keeps the ball in view); near the
-        # staging point turn to the kick's heading.
-        face = wrap(pose[2] - rh) if mode == "walk" and dw < 0.3 else None
         # The fast go-to-target set only for walking on ahead; turning, stepping
         # sideways and going round the ball with the steadier approach-to-kick set.
         fast = mode == "walk" and dw > p.fast and abs(math.atan2(wdy, wdx)) < math.radians(35.0)
         set_name = "go_to_target" if fast or "approach_to_kick" not in self.sets else "approach_to_kick"
-        gain = p.around_turn_gain if mode == "around" else 1.0
-        x, y, turn = walk_toward(wdx, wdy, face, self.sets[set_name], brake=0.3, face_beyond=0.3,
-                                 turn_gain=gain)
+        if mode == "around":  # step toward the waypoint, turning to face the ball
+            face = wrap(math.atan2(float(ball[1]) - ry, float(ball[0]) - rx) - rh)
+            x, y, turn = walk_toward(wdx, wdy, face, self.sets[set_name], brake=0.3, face_beyond=math.inf,
+                                     turn_gain=p.around_turn_gain)
+            return ApproachCommand(x, y, turn, set_name, False, error, mode)
+        # To the staging point facing it; near it, turn to the kick's heading.
+        face = wrap(pose[2] - rh) if dw < 0.3 else None
+        x, y, turn = walk_toward(wdx, wdy, face, self.sets[set_name], brake=0.3, face_beyond=0.3)
         return ApproachCommand(x, y, turn, set_name, False, error, mode)
 
     def waypoint(self, r: tuple[float, float], g: tuple[float, float], behind: bool

@@ -149,9 +149,9 @@ def test_turned_far_off_behind_the_pose_it_turns_before_creeping_in():
 
 
 def test_going_round_the_ball_turns_by_the_around_gain():
-    """In front of the ball (the kick pose is behind it), facing along the circle: going
-    round, the turn input scales with `around_turn_gain` (type 3 ships 3); walking
-    straight to the staging point it does not."""
+    """In front of the ball (the kick pose is behind it), turned off the ball: going
+    round, the turn input scales with `around_turn_gain`; walking straight to the
+    staging point it does not."""
     from dataclasses import replace
 
     sets = load_walk_sets(default_param_files(0))
@@ -171,7 +171,23 @@ def test_going_round_the_ball_turns_by_the_around_gain():
     walks = [Approach(sets, replace(ApproachParams(), around_turn_gain=g)).step(behind, ball, TARGET, LEFT)
              for g in (1.0, 3.0)]
     assert walks[0].mode == "walk" and walks[0].turn == walks[1].turn
-    assert ApproachParams.load(robot_type=3).around_turn_gain == 3.0
+
+
+def test_going_round_the_ball_it_steps_round_facing_the_ball():
+    """In front of the ball, facing it: going round, it keeps facing the ball and steps
+    sideways along the circle (UT's circling); facing away, it turns back to the ball."""
+    sets = load_walk_sets(default_param_files(0))
+    ball = (0.0, 0.0)
+    gx, gy, gh = kick_pose(ball, TARGET, LEFT)
+    ux, uy = math.cos(gh), math.sin(gh)  # the kick heading; the robot stands beyond the ball
+    front = (0.45 * ux - 0.1 * uy, 0.45 * uy + 0.1 * ux)
+    to_ball = math.atan2(-front[1], -front[0])
+    facing = Approach(sets).step((*front, to_ball), ball, TARGET, LEFT)
+    assert facing.mode == "around"
+    assert abs(facing.turn) < 0.05 and abs(facing.y) > 1.5 * abs(facing.x) and abs(facing.y) > 0.3
+    assert facing.y < 0.0  # left of the kick line, facing back: the way round is to its right
+    away = Approach(sets).step((*front, to_ball + math.radians(90.0)), ball, TARGET, LEFT)
+    assert away.mode == "around" and away.turn < -0.3  # turns back toward the ball
 
 
 def test_going_round_the_ball_never_cuts_through_it():
