@@ -13,13 +13,14 @@ the kick starts and in which direction (robot frame) it sends the ball.
 * `Approach`: walk inputs toward the pose. Far from it, or on the wrong side of
   the ball, it walks to a waypoint: straight to a staging point `stage` behind
   the pose when the way is clear, otherwise to where the path touches a circle
-  of radius `around` round the ball and then round it, facing the ball as it
-  goes (UT's circling, dissertation D.1.6; the head keeps the ball in view).
-  The fast go-to-target set only for walking on ahead; turning, stepping
-  sideways and circling with the steadier approach-to-kick set. Within `near` of the pose, and facing
-  within `enter_turn` of the kick's heading (else it first turns at the
-  staging point: the creep turns slowly), it creeps in with the
-  approach-to-kick set and UT's velocity rule, per axis of the robot frame::
+  of radius `around` round the ball and then round it, stepping sideways
+  while it faces the ball (UT's circling, dissertation D.1.6; the head keeps
+  the ball in view). The fast go-to-target set only for walking on ahead;
+  turning, stepping sideways and circling with the steadier approach-to-kick
+  set. Within `near` of the pose, and facing within `enter_turn` of the kick's
+  heading (else it first turns at the staging point: the creep turns slowly),
+  it creeps in with the approach-to-kick set and UT's velocity rule, per axis
+  of the robot frame::
 
       v = sqrt(2 * MAXDECEL * (d if d > 2 * BUFFER else d - BUFFER))
 
