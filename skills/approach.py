@@ -373,14 +373,14 @@ class Approach:
         # sideways and going round the ball with the steadier approach-to-kick set.
         fast = mode == "walk" and dw > p.fast and abs(math.atan2(wdy, wdx)) < math.radians(35.0)
         set_name = "go_to_target" if fast or "approach_to_kick" not in self.sets else "approach_to_kick"
-        if mode == "around":  # step toward the waypoint, turning to face the ball
-            face = wrap(math.atan2(float(ball[1]) - ry, float(ball[0]) - rx) - rh)
-            x, y, turn = walk_toward(wdx, wdy, face, self.sets[set_name], brake=0.3, face_beyond=math.inf,
-                                     turn_gain=p.around_turn_gain)
-            return ApproachCommand(x, y, turn, set_name, False, error, mode)
-        # To the staging point facing it; near it, turn to the kick's heading.
-        face = wrap(pose[2] - rh) if dw < 0.3 else None
-        x, y, turn = walk_toward(wdx, wdy, face, self.sets[set_name], brake=0.3, face_beyond=0.3)
+        if mode == "around":  # step toward the waypoint, always turning to face the ball
+            face: float | None = wrap(math.atan2(float(ball[1]) - ry, float(ball[0]) - rx) - rh)
+            beyond, gain = math.inf, p.around_turn_gain
+        else:  # to the staging point facing it; near it, turn to the kick's heading
+            face = wrap(pose[2] - rh) if dw < 0.3 else None
+            beyond, gain = 0.3, 1.0
+        x, y, turn = walk_toward(wdx, wdy, face, self.sets[set_name], brake=0.3, face_beyond=beyond,
+                                 turn_gain=gain)
         return ApproachCommand(x, y, turn, set_name, False, error, mode)
 
     def waypoint(self, r: tuple[float, float], g: tuple[float, float], behind: bool
