@@ -212,7 +212,6 @@ class WalkEngine:
         self.heading_error = 0.0  # rad turned beyond the requested turn while walking
         self.turn_step = 0.0  # rad per phase the feet turn, with the heading correction
         self.latched = (0.0, 0.0)  # side step (m) and turn (rad) of the current step
-        self.prev_end = {s: np.zeros(3) for s in "lr"}  # (x, y, yaw) offsets where each foot landed
 
     # ---------------------------------------------------------------- the cycle
 
