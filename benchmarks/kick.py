@@ -7,8 +7,11 @@ kick's pose behind the ball and kicks along its own direction) and "walking"
 toward a target in a random direction), driven by `agent.kicker.Kicker` from
 percepts alone. Success: the ball moved at least 1 m toward the target and the
 robot did not fall. Distance: the ball's travel to its stop; direction error:
-its travel direction against the target's; time to contact: from the start
-of the trial to the kicking robot's first touch. Each success rate comes with
+its travel direction against the target's, over the tries in which the kick
+was played (a ball the approach ran into and pushed off is not the kick's
+direction: those tries count in `approach_bumps`, the ball moved more than
+`BUMP` before any kick began); time to contact: from the start of the trial
+to the kicking robot's first touch. Each success rate comes with
 its 95% interval (`benchmarks.stats.rate_ci`), and each row counts its tries by
 outcome: success, timeout (no kick within the approach's 25 s), approach_fall,
 kick_fall (in or after the kick) and short.
@@ -35,6 +38,7 @@ from optimization.kick import kick_trial
 from skills.kicks import KickSkill, all_kicks
 
 OUTCOMES = ("success", "timeout", "approach_fall", "kick_fall", "short")
+BUMP = 0.05  # m the ball may move (nudged, rocked) before the kick without counting as run into
 
 
 def outcome(row: dict) -> str:
@@ -59,7 +63,7 @@ def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: in
         if progress is not None:
             progress.update()
     dist = np.array([r["distance"] for r in rows])
-    errs = [r["direction_error"] for r in rows if r["direction_error"] is not None]
+    errs = [r["direction_error"] for r in rows if r["kicked"] and r["direction_error"] is not None]
     contact = [r["contact_s"] for r in rows if r["contact_s"] is not None]
     ok = sum(r["success"] for r in rows)
     return {
@@ -68,6 +72,7 @@ def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: in
         "distance_mean_m": round(float(dist.mean()), 2), "distance_std_m": round(float(dist.std()), 2),
         "direction_error_mean_deg": round(float(np.mean(errs)), 1) if errs else None,
         "falls": sum(r["fell"] for r in rows), "kicks_started": sum(r["kicked"] for r in rows),
+        "approach_bumps": sum(r["bumped"] > BUMP for r in rows),
         "time_to_contact_mean_s": round(float(np.mean(contact)), 2) if contact else None,
         "outcomes": {k: sum(outcome(r) == k for r in rows) for k in OUTCOMES},
         "nominal_distance_m": kick.spec.distance,

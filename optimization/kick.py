@@ -16,8 +16,9 @@ as after a beam); ground truth only measures:
 Measured: the ball's travel until it stops (rolled in physics for `ROLL_LIMIT` s
 after contact, then extrapolated under its drag and rolling friction),
 its progress toward the target, its direction error, whether the robot fell
-(torso up-vector z < 0.5 at any time) and the time from the start to the
-robot's first contact with the ball during the kick.
+(torso up-vector z < 0.5 at any time), the time from the start to the
+robot's first contact with the ball during the kick, and how far the ball was
+moved before a kick began (`bumped`: the approach running into it).
 
 Tasks (fitness higher is better; `FALL_PENALTY` per fall):
 
@@ -125,12 +126,15 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
     t0 = w.time
     contact = None
     fell = False
+    bumped = 0.0  # m: farthest the ball moved from its spot before a kick began
     end = t0 + APPROACH_LIMIT
     while w.time < end:
         percept = tr.percepts()[0]
         if mode == "standing" and kicker.kick_started is None and w.time - t0 >= look:
             kicker.kick_now(percept)  # after watching the ball `look` s
         touched = tr.step({0: Action(kicker.act(percept))})
+        if kicker.kick_started is None:  # the approach ran into the ball?
+            bumped = max(bumped, float(np.linalg.norm(w.ball_position()[:2] - ball)))
         if observe is not None:
             observe(w)
         fell = fell or bool(w.torso_up()[0] < FALLEN_UP)
@@ -149,7 +153,7 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
     err = (abs(math.degrees(math.remainder(math.atan2(moved[1], moved[0]) - target_dir, 2 * math.pi)))
            if dist > 0.1 else None)
     return {"distance": dist, "toward": toward, "lateral": lateral, "direction_error": err,
-            "fell": fell, "contact_s": contact, "kicked": kicker.kick_started is not None,
+            "fell": fell, "contact_s": contact, "kicked": kicker.kick_started is not None, "bumped": bumped,
             "success": toward >= MIN_TOWARD and not fell, "sim_s": round(w.time, 2)}
 
 

@@ -2,7 +2,8 @@
 
 import pytest
 
-from benchmarks.kick import OUTCOMES, kick_stats, main, outcome
+import benchmarks.kick as bench
+from benchmarks.kick import BUMP, OUTCOMES, kick_stats, main, outcome
 from skills.kicks import all_kicks
 
 
@@ -23,6 +24,23 @@ def test_a_row_counts_its_tries_by_outcome():
     assert sum(row["outcomes"].values()) == 3
     assert row["outcomes"]["success"] == round(row["success_rate"] * 3)
     assert row["outcomes"]["timeout"] + row["outcomes"]["approach_fall"] == 3 - row["kicks_started"]
+
+
+def test_direction_error_counts_kicks_played_and_bumps_are_counted(monkeypatch):
+    """A ball the approach pushed off (no kick played) has a direction, but not the kick's."""
+    rows = iter([
+        {"kicked": True, "fell": False, "success": True, "distance": 4.0, "direction_error": 4.0,
+         "contact_s": 9.0, "bumped": 0.0},
+        {"kicked": True, "fell": False, "success": True, "distance": 3.0, "direction_error": 8.0,
+         "contact_s": 11.0, "bumped": 2 * BUMP},  # nudged on the way, then kicked
+        {"kicked": False, "fell": False, "success": False, "distance": 0.6, "direction_error": 95.0,
+         "contact_s": None, "bumped": 0.6},  # run into: a timeout
+    ])
+    monkeypatch.setattr(bench, "kick_trial", lambda *a, **k: next(rows))
+    row = kick_stats(0, all_kicks(0)["ik_forward_left"], "walking", tries=3, seed=0)
+    assert row["direction_error_mean_deg"] == 6.0
+    assert row["approach_bumps"] == 2
+    assert row["outcomes"]["timeout"] == 1
 
 
 def test_bad_options_are_refused(capsys):

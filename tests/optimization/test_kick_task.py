@@ -74,6 +74,7 @@ def test_a_standing_ik_kick_trial_measures_the_ball():
     for seed in (3, 4, 5):
         r = kick_trial(0, kick, "standing", np.random.default_rng(seed), seed)
         assert r["kicked"] and not r["fell"]
+        assert r["bumped"] < 0.01  # placed at the pose, the robot leaves the ball until it kicks
         hits += r["toward"] > 1.0 and r["direction_error"] < 15.0
         assert r["contact_s"] is not None and 0.4 < r["contact_s"] < 3.0
         assert math.isclose(r["distance"], math.hypot(r["toward"], r["lateral"]), rel_tol=1e-9)
