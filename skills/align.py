@@ -53,10 +53,10 @@ ALIGN_SCHEMA = {"shift_time": "s", "swing_time": "s", "land_time": "s", "unshift
 class AlignParams:
     """Timing and geometry of the two steps (SI: s, m, rad)."""
 
-    shift_time: float = 0.9  # s: torso over the support foot
-    swing_time: float = 0.6  # s: the free foot to its new spot
+    shift_time: float = 0.7  # s: torso over the support foot
+    swing_time: float = 1.0  # s: the free foot to its new spot
     land_time: float = 0.2  # s: both feet down before the torso moves back
-    unshift_time: float = 0.6  # s: torso back between the feet
+    unshift_time: float = 0.5  # s: torso back between the feet
     settle_time: float = 0.2  # s: the stand held at the end
     lift: float = 0.011  # m: sole height at the middle of a swing
     shift: float = 0.05  # m: torso beyond the middle of the stand spots, toward the support foot
