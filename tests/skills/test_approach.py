@@ -203,6 +203,28 @@ def test_going_round_the_ball_never_cuts_through_it():
             assert not ball_in_path(r, (wu, wv), (0.0, 0.0), clearance=0.12), (angle, dist, mode)
 
 
+@pytest.mark.parametrize("start", [(0.45, 0.1), (0.3, -0.6), (0.1, 0.39), (1.5, 0.2)])
+def test_going_round_the_ball_keeps_clear_of_it(start):
+    """A point stepping 1 cm a cycle straight at each waypoint goes round the ball and
+    leaves the circle behind it, never nearer than 0.2 m to it (its toes reach 0.1 m
+    ahead of the torso). Aimed 50 deg further round on the circle, the path cuts
+    inside it: about two thirds of `around` at its nearest."""
+    appr = Approach(load_walk_sets(default_param_files(0)), ApproachParams.load())
+    g = (-0.17, 0.05)  # the pose in the kick frame (LEFT)
+    r = np.array(start, dtype=float)
+    dists = []
+    for _ in range(2000):
+        behind = r[0] < g[0] and abs(r[1] - g[1]) < 0.1
+        wu, wv, mode = appr.waypoint(tuple(r), g, behind)
+        if mode != "around":
+            break
+        d = np.array([wu, wv]) - r
+        r += 0.01 * d / np.linalg.norm(d)
+        dists.append(float(np.hypot(*r)))
+    assert mode == "walk" and r[0] < 0.0  # left the circle behind the ball
+    assert dists and min(dists) > 0.2, min(dists)
+
+
 # ------------------------------------------------------------------ physics
 
 
