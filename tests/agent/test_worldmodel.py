@@ -50,7 +50,6 @@ def test_fall_flag_and_direction():
     assert wm.fallen and wm.tilt.fall_direction == "back"
 
 
-
 def test_tilt_estimate_follows_a_walking_turning_torso():
     """In physics, walking forward and turning for 9 s: the world model's roll and pitch
     (which level what the camera sees) stay within 6 deg rms of the torso's true tilt
@@ -72,6 +71,7 @@ def test_tilt_estimate_follows_a_walking_turning_torso():
     assert tr.world.torso_up()[0] > 0.5  # still walking
     rms = math.degrees(math.sqrt(float(np.mean(np.sum(np.square(errs), axis=1)))))
     assert rms < 6.0, rms
+
 
 def test_physics_world_model():
     """Standing robots see each other and the ball where they are; lost after going blind."""
