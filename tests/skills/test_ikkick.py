@@ -189,10 +189,10 @@ def test_the_backswing_clears_the_ball_before_the_strike(robot_type):
 @pytest.mark.parametrize("robot_type", range(5))
 def test_the_45_out_backswing_clears_the_ball_anywhere_in_its_box(robot_type):
     """Kinematics: the 45 deg outward kick's lift passes the ball by at least 1 mm wherever
-    in its tolerance box the approach leaves it. With the ball 15 mm nearer (the offset it
-    was learned at) it touched it in the box's near half (-5 mm), and kicks started there
-    pushed the ball away before the swing (3 of 20 of type 3's standing right kicks went
-    0.5 m)."""
+    in its tolerance box the approach leaves it. With the ball 10 mm nearer (the offset it
+    was learned at; 15 for type 4) it touched it in the box's near half (-5 mm), and kicks
+    started there pushed the ball away before the swing (3 of 20 of type 3's standing right
+    kicks went 0.5 m); a ball 10 mm nearer than the box's edge is still touched."""
     from benchmarks.ikkick import backswing_clearance
 
     for name in ("ik_45_out_left", "ik_45_out_right"):
@@ -203,4 +203,4 @@ def test_the_45_out_backswing_clears_the_ball_anywhere_in_its_box(robot_type):
                 clear, s = backswing_clearance(kick, (bx + dx, by + dy))
                 where = f"type {robot_type} {name}, ball off by ({dx}, {dy}) m"
                 assert clear >= 0.001, f"{where}: {1000 * clear:.1f} mm at s={s:.2f}"
-        assert backswing_clearance(kick, (bx - 0.015 - tx, by))[0] < 0.0  # the old offset's near edge
+        assert backswing_clearance(kick, (bx - 0.01 - tx, by))[0] < 0.0  # the check sees a touch
