@@ -195,8 +195,9 @@ def test_the_45_out_backswing_clears_the_ball_anywhere_in_its_box(robot_type):
     kicks went 0.5 m); a ball 10 mm nearer than the box's edge is still touched."""
     from benchmarks.ikkick import backswing_clearance
 
+    kicks = ik_kicks(robot_type)
     for name in ("ik_45_out_left", "ik_45_out_right"):
-        kick = ik_kicks(robot_type)[name]
+        kick = kicks[name]
         (bx, by), (tx, ty) = kick.spec.ball, kick.spec.tolerance[:2]
         for dx in (-tx, 0.0, tx):
             for dy in (-ty, 0.0, ty):
