@@ -158,7 +158,7 @@ class Kicker:
         self.kick = self.kicks[spec.name]
         self.state = KICK
         self.kick_started = percept.time
-        self.kick.reset(self.ball_relative())
+        self.kick.reset(self.ball_relative(), self.motion.held_target)
         return True
 
     @property
@@ -333,7 +333,7 @@ class Kicker:
         if cmd.ready and standing:
             self.state = KICK
             self.kick_started = percept.time
-            self.kick.reset(self.ball_relative())
+            self.kick.reset(self.ball_relative(), self.motion.held_target)
             return self._skill_command(self.kick.step(percept), percept)
         if cmd.mode == "align" and standing:
             self.state = ALIGN

@@ -182,6 +182,8 @@ def kick_param_set(set_name: str) -> ParamSetDef:
             specs.append(ParamSpec(n, 0.02 if u == "s" else 0.1))
         elif n == "slew":  # deg/s of the slow keyframes
             specs.append(ParamSpec(n, 20.0, 10.0, 2000.0))
+        elif n == "base_slew":  # deg/s into the base pose (0: at once)
+            specs.append(ParamSpec(n, 20.0, 0.0, 2000.0))
         else:
             bounds = _OWN_BOUNDS.get(n, _BOUNDS.get(u, (-math.inf, math.inf)))
             specs.append(ParamSpec(n, _SIGMA.get(u, 0.05), *bounds))

@@ -204,9 +204,10 @@ class IkKick:
 
     # --------------------------------------------------------------- set-up
 
-    def reset(self, ball: tuple[float, float] | None = None) -> None:
+    def reset(self, ball: tuple[float, float] | None = None, start: np.ndarray | None = None) -> None:
         """Start over at the next `step`, with the ball at `ball` (m, robot frame) or the
-        spec's nominal position; checks the swing's reachability (see `unreachable`)."""
+        spec's nominal position; checks the swing's reachability (see `unreachable`).
+        `start` (the held targets, `KickSkill.reset`) is not used."""
         self.ball = np.array(self.spec.ball if ball is None else ball, dtype=float)
         self._t0: float | None = None
         self._t = 0.0

@@ -55,8 +55,9 @@ SPEC_SCHEMA: dict[str, str] = {
 BALANCE_SCHEMA: dict[str, str] = {"bal_roll": "1", "bal_droll": "s", "bal_pitch": "1", "bal_dpitch": "s",
                                    "bal_hip": "1"}
 # How fast the targets may move outside the swing: "slew" is in deg/s in the files (read as
-# "deg", so rad/s inside); 0 lets every keyframe jump.
-SLEW_SCHEMA: dict[str, str] = {"slew": "deg"}
+# "deg", so rad/s inside); 0 lets every keyframe jump. "base_slew" (deg/s too) is the move
+# from the stand into the base pose (k0); 0 jumps there.
+SLEW_SCHEMA: dict[str, str] = {"slew": "deg", "base_slew": "deg"}
 # The stand rocks on its feet at about 6.5 Hz (torso pitch rate up to 0.4 rad/s, every
 # type, even under a joint PID run every 5 ms). A keyframe kick that starts while the
 # torso's pitch rate is below zero falls far more often: long kick, type 0, 160 starts
@@ -150,15 +151,18 @@ class KeyframeKick:
     `step` plays the keyframes on the percept's clock from the joint angles the
     robot has when it starts (the walk's stand pose) and ends in the stand pose.
     Outside the pull-back and swing (k3, k3b, k4) the targets move toward the keyframe's at most `slew`
-    rad/s, so the weight shift and the lift are gentle and only the swing is fast.
+    rad/s, so the weight shift and the lift are gentle and only the swing is fast; the move from
+    the stand into the base pose slews at `base_slew` rad/s (from the `start` targets given to
+    `reset`), or, at 0, jumps.
     Between the first and the last keyframe the support ankle follows `balance`
     (feedback on the torso's tilt from the percept's gyro and accelerometer).
     """
 
     def __init__(self, skill: Skill, spec: KickSpec, robot_type: int,
-                 balance: Balance | None = None, slew: float = 0.0) -> None:
+                 balance: Balance | None = None, slew: float = 0.0, base_slew: float = 0.0) -> None:
         self.spec = spec
         self.slew = slew
+        self.base_slew = base_slew
         self.skill = skill
         self.robot_type = robot_type
         self.balance = balance or Balance()
@@ -173,6 +177,7 @@ class KeyframeKick:
         self._target: np.ndarray | None = None
         self._asked: float | None = None  # s: when the first step came (the kick waits for its phase)
         self._started = False
+        self.start: np.ndarray | None = None
 
     @classmethod
     def load(cls, set_name: str = BASE_SET, foot: str = "l", robot_type: int = 0,
@@ -186,8 +191,16 @@ class KeyframeKick:
             raise KeyError(f"no keyframe kick set {set_name!r}; sets: {sets}")
         return kicks[name]
 
-    def reset(self, ball: tuple[float, float] | None = None) -> None:
-        """Start over at the next `step` (the ball estimate is not used: the kick is fixed)."""
+    def reset(self, ball: tuple[float, float] | None = None, start: np.ndarray | None = None) -> None:
+        """Start over at the next `step` (the ball estimate is not used: the kick is fixed).
+
+        start: the joint targets (rad, league order; NaN = none) the robot holds as the
+        kick begins, usually the walk's stand (`Motion.held_target`). With a `base_slew`, the
+        move into the base pose (k0) slews from them along a straight line in joint space;
+        without (or without them) the base pose's targets apply at once, and the jump (the
+        knees straighten by about 33 deg) makes the robot hop: its feet land up to 20-40 mm
+        from where they stood."""
+        self.start = None if start is None else np.array(start, dtype=float)
         self.player.reset()
         self.tilt = TiltEstimator(from_first=True)  # as the kick was tuned
         self._ref = None
@@ -207,8 +220,17 @@ class KeyframeKick:
         if self._ref is None:  # upright: the stand pose's torso is level (the first reading may not be)
             self._ref = (0.0, 0.0)
         raw = self.player.step(percept.time, percept.joints)
-        if self._target is None or self.slew <= 0.0 or self.player.keyframe in FAST_KEYFRAMES:
+        k = self.player.keyframe
+        if self._target is None and self.base_slew > 0.0 and self.start is not None:
+            self._target = np.where(np.isnan(self.start), raw, self.start)
+        if self._target is None or k in FAST_KEYFRAMES or (self.base_slew if k == 0 else self.slew) <= 0.0:
             self._target = raw.copy()
+        elif k == 0:  # from the stand: all joints in proportion (a straight line), so the torso
+            # stays upright and the soles flat; clipped joint by joint, the hip and ankle would
+            # arrive before the knee and tip the torso back (type 3 fell every time)
+            d = raw - self._target
+            big = float(np.max(np.abs(d)))
+            self._target += d * (min(1.0, self.base_slew * CYCLE / big) if big > 0 else 0.0)
         else:  # outside the swing the targets move at most `slew` rad/s
             step = self.slew * CYCLE
             self._target += np.clip(raw - self._target, -step, step)
@@ -234,7 +256,7 @@ def make_keyframe_kick(source: SkillSource, set_name: str, values: Mapping[str, 
     gets the set's balance feedback and slew too."""
     skill = source.bind(values)[SKILL_FOR_FOOT[foot]]
     return KeyframeKick(skill, kick_spec(set_name, values, foot, skill.duration), robot_type,
-                        Balance.from_values(values), values.get("slew", 0.0))
+                        Balance.from_values(values), values.get("slew", 0.0), values.get("base_slew", 0.0))
 
 
 def keyframe_kicks(robot_type: int = 0, param_paths: Iterable[PathLike] = ()) -> dict[str, KeyframeKick]:

@@ -53,9 +53,11 @@ class KickSkill(Protocol):
 
     spec: KickSpec
 
-    def reset(self, ball: tuple[float, float] | None = None) -> None:
+    def reset(self, ball: tuple[float, float] | None = None, start: np.ndarray | None = None) -> None:
         """Start over at the next `step`; `ball` is the agent's estimate of the ball
-        (m, robot frame) when it has one (IK kicks place the foot from it)."""
+        (m, robot frame) when it has one (IK kicks place the foot from it); `start` the
+        joint targets (rad, league order) the robot holds as the kick begins (`Motion.held_target`;
+        keyframe kicks move from them into their base pose)."""
         ...
 
     def step(self, percept: Percept) -> np.ndarray:

@@ -123,6 +123,12 @@ class Motion:
         self.feedforward = gains[1]
 
     @property
+    def held_target(self) -> np.ndarray | None:
+        """The joint targets (rad, league order) of the last `command`, held where a later
+        target is NaN; None after `reset` or a getup's start."""
+        return None if self._prev_target is None else self._prev_target.copy()
+
+    @property
     def recovering(self) -> bool:
         """True while a getup plays or its last pose holds."""
         return self._recovering

@@ -58,7 +58,7 @@ class StubKick:
     def __init__(self, targets: np.ndarray, cycles: int = 3) -> None:
         self.targets, self.left, self.done = targets, cycles, False
 
-    def reset(self, ball=None) -> None:
+    def reset(self, ball=None, start=None) -> None:
         pass
 
     def step(self, percept) -> np.ndarray:

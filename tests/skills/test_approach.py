@@ -235,7 +235,7 @@ class Hold:
         self.spec = spec
         self.n = 0
 
-    def reset(self, ball=None):
+    def reset(self, ball=None, start=None):
         self.n = 0
 
     def step(self, percept):
