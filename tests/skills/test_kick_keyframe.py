@@ -18,10 +18,11 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
+from models import nao
 from models.messages import Action
 from models.scene import Lineup
 from server.trainer import Trainer
-from skills.kick import KeyframeKick, angle_error, keyframe_kicks, load_kick_sets
+from skills.kick import KeyframeKick, angle_error, default_param_files, keyframe_kicks, load_kick_sets
 from skills.kicks import KickSpec
 from skills.motion import Motion
 from skills.params import ParamError
@@ -199,6 +200,16 @@ def test_the_feet_stay_put_while_the_kick_goes_into_its_base_pose(robot_type):
     kick = keyframe_kicks(robot_type)["kick_right"]
     slides = [base_pose_slide(kick, robot_type, hold=0.6 + 0.1 * i) for i in range(3)]
     assert max(slides) < BASE_POSE_SLIDE, slides
+
+
+@pytest.mark.parametrize("robot_type", [0, 1, 2, 3, 4])
+def test_a_kept_stand_roll_is_the_walks(robot_type):
+    # kick_stand_roll restates the walk stand's hip roll (types 2 and 3 keep it, the others
+    # play 0, as they were tuned); a walk whose stand changed would leave it stale.
+    roll = stand_pose(robot_type)[nao.joint_names(robot_type).index("llj2")]
+    for name, values in load_kick_sets(default_param_files(robot_type)).items():
+        if values["stand_roll"] != 0.0:
+            assert abs(values["stand_roll"] - roll) < math.radians(0.1), (name, values["stand_roll"], roll)
 
 
 def fixed_distance_sets() -> list[str]:
