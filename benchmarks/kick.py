@@ -10,8 +10,10 @@ robot did not fall. Distance: the ball's travel to its stop; direction error:
 its travel direction against the target's, over the tries in which the kick
 was played (a ball the approach ran into and pushed off is not the kick's
 direction: those tries count in `approach_bumps`, the ball moved more than
-`BUMP` before any kick began); time to contact: from the start of the trial
-to the kicking robot's first touch. Each success rate comes with
+`BUMP` before any kick began): its mean absolute value, and its signed mean
+("bias", + to the left of the target) and standard deviation, which tell a
+kick that aims off from one that scatters; time to contact: from the start
+of the trial to the kicking robot's first touch. Each success rate comes with
 its 95% interval (`benchmarks.stats.rate_ci`), and each row counts its tries by
 outcome: success, timeout (no kick within the approach's 25 s), approach_fall,
 kick_fall (in or after the kick) and short.
@@ -63,14 +65,17 @@ def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: in
         if progress is not None:
             progress.update()
     dist = np.array([r["distance"] for r in rows])
-    errs = [r["direction_error"] for r in rows if r["kicked"] and r["direction_error"] is not None]
+    dirs = np.array([r["direction"] for r in rows if r["kicked"] and r["direction"] is not None])
+    errs = np.abs(dirs)
     contact = [r["contact_s"] for r in rows if r["contact_s"] is not None]
     ok = sum(r["success"] for r in rows)
     return {
         "kick": kick.spec.name, "robot_type": robot_type, "mode": mode, "tries": tries,
         "success_rate": round(ok / tries, 3), "success_ci95": rate_ci(ok, tries),
         "distance_mean_m": round(float(dist.mean()), 2), "distance_std_m": round(float(dist.std()), 2),
-        "direction_error_mean_deg": round(float(np.mean(errs)), 1) if errs else None,
+        "direction_error_mean_deg": round(float(errs.mean()), 1) if errs.size else None,
+        "direction_bias_deg": round(float(dirs.mean()), 1) if dirs.size else None,
+        "direction_sd_deg": round(float(dirs.std()), 1) if dirs.size else None,
         "falls": sum(r["fell"] for r in rows), "kicks_started": sum(r["kicked"] for r in rows),
         "approach_bumps": sum(r["bumped"] > BUMP for r in rows),
         "time_to_contact_mean_s": round(float(np.mean(contact)), 2) if contact else None,

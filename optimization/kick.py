@@ -15,7 +15,8 @@ as after a beam); ground truth only measures:
 
 Measured: the ball's travel until it stops (rolled in physics for `ROLL_LIMIT` s
 after contact, then extrapolated under its drag and rolling friction),
-its progress toward the target, its direction error, whether the robot fell
+its progress toward the target, its direction (deg, signed: + to the left of the
+target) and direction error, whether the robot fell
 (torso up-vector z < 0.5 at any time), the time from the start to the
 robot's first contact with the ball during the kick, and how far the ball was
 moved before a kick began (`bumped`: the approach running into it).
@@ -150,9 +151,12 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
     toward = float(moved @ u)
     lateral = float(moved[1] * u[0] - moved[0] * u[1])
     dist = float(np.linalg.norm(moved))
-    err = (abs(math.degrees(math.remainder(math.atan2(moved[1], moved[0]) - target_dir, 2 * math.pi)))
-           if dist > 0.1 else None)
-    return {"distance": dist, "toward": toward, "lateral": lateral, "direction_error": err,
+    # deg, + = counterclockwise (left) of the target's direction
+    direction = (math.degrees(math.remainder(math.atan2(moved[1], moved[0]) - target_dir, 2 * math.pi))
+                 if dist > 0.1 else None)
+    err = abs(direction) if direction is not None else None
+    return {"distance": dist, "toward": toward, "lateral": lateral, "direction": direction,
+            "direction_error": err,
             "fell": fell, "contact_s": contact, "kicked": kicker.kick_started is not None, "bumped": bumped,
             "success": toward >= MIN_TOWARD and not fell, "sim_s": round(w.time, 2)}
 

@@ -29,16 +29,18 @@ def test_a_row_counts_its_tries_by_outcome():
 def test_direction_error_counts_kicks_played_and_bumps_are_counted(monkeypatch):
     """A ball the approach pushed off (no kick played) has a direction, but not the kick's."""
     rows = iter([
-        {"kicked": True, "fell": False, "success": True, "distance": 4.0, "direction_error": 4.0,
-         "contact_s": 9.0, "bumped": 0.0},
-        {"kicked": True, "fell": False, "success": True, "distance": 3.0, "direction_error": 8.0,
-         "contact_s": 11.0, "bumped": 2 * BUMP},  # nudged on the way, then kicked
-        {"kicked": False, "fell": False, "success": False, "distance": 0.6, "direction_error": 95.0,
-         "contact_s": None, "bumped": 0.6},  # run into: a timeout
+        {"kicked": True, "fell": False, "success": True, "distance": 4.0, "direction": -4.0,
+         "direction_error": 4.0, "contact_s": 9.0, "bumped": 0.0},
+        {"kicked": True, "fell": False, "success": True, "distance": 3.0, "direction": 8.0,
+         "direction_error": 8.0, "contact_s": 11.0, "bumped": 2 * BUMP},  # nudged on the way, then kicked
+        {"kicked": False, "fell": False, "success": False, "distance": 0.6, "direction": 95.0,
+         "direction_error": 95.0, "contact_s": None, "bumped": 0.6},  # run into: a timeout
     ])
     monkeypatch.setattr(bench, "kick_trial", lambda *a, **k: next(rows))
     row = kick_stats(0, all_kicks(0)["ik_forward_left"], "walking", tries=3, seed=0)
     assert row["direction_error_mean_deg"] == 6.0
+    assert row["direction_bias_deg"] == 2.0  # the signed mean of -4 and +8
+    assert row["direction_sd_deg"] == 6.0
     assert row["approach_bumps"] == 2
     assert row["outcomes"]["timeout"] == 1
 

@@ -78,6 +78,9 @@ def test_a_standing_ik_kick_trial_measures_the_ball():
         hits += r["toward"] > 1.0 and r["direction_error"] < 15.0
         assert r["contact_s"] is not None and 0.4 < r["contact_s"] < 3.0
         assert math.isclose(r["distance"], math.hypot(r["toward"], r["lateral"]), rel_tol=1e-9)
+        # the signed direction is the ball's travel against the target's (+ = to its left)
+        assert math.isclose(r["direction"], math.degrees(math.atan2(r["lateral"], r["toward"])), abs_tol=1e-6)
+        assert r["direction_error"] == abs(r["direction"])
     assert hits >= 2
 
 
