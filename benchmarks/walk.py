@@ -15,7 +15,10 @@ JSON line per robot type:
   straight walks, a curve, quick direction changes, stop and go, a spiral),
   walked by dead reckoning on the walk's own odometry: falls, time, how far
   the dead-reckoned pose drifted from the truth; over several runs, the share
-  of runs with a fall and its 95% interval;
+  of runs with a fall and its 95% interval, and the falls by course leg (the
+  waypoint walked to) and by what the walk did in the second before
+  (`fall_motion`: in place, speeding up, steady or slowing, each also while
+  turning, or in a getup);
 * getup success and mean time from front and back (`benchmarks.getup`).
 
 Goals for the hand-tuned defaults (issue 3): forward >= 0.3 m/s, sideways
@@ -34,6 +37,7 @@ import argparse
 import json
 import math
 import time
+from collections import Counter, deque
 
 import numpy as np
 
@@ -53,6 +57,10 @@ COURSE = [
     (1.5, 0.0, 0.0), (0.0, 0.0, 1.0),
 ]
 REACHED = 0.2  # m
+FALL_LOOKBACK = 1.0  # s of walking before a fall that `fall_motion` looks at
+FALL_TURNING = math.radians(5.0)  # turn step (per step) above which `fall_motion` says "turning"
+FALL_MOTIONS = tuple(f"{m}{t}" for m in ("in place", "speeding up", "steady", "slowing")
+                     for t in ("", ", turning")) + ("getup",)
 
 
 PARAMS: list[str] = []  # walk parameter files loaded after the shipped ones (--params)
@@ -106,10 +114,15 @@ def course(t: int, limit: float = 240.0, rng: np.random.Generator | None = None)
     """Walk the course by dead reckoning; a fallen robot gets up with its getup skills
     (from its percepts) and goes on. Falls count every time the torso tips past 60 deg
     from vertical, whatever the robot was doing (walking, holding still after it sensed
-    a fall, a getup that failed); getups started are counted apart."""
+    a fall, a getup that failed); getups started are counted apart. Each fall is told
+    by the course leg it happened on (the index of the waypoint walked to) and by what
+    the walk did in the second before it (`fall_motion`)."""
     tr, mo = new_robot(t, rng)
     odo = Odometry()
     falls, k, stop_left, cycles, was_down = 0, 0, None, 0, False
+    recent: deque[tuple[float, float, bool]] = deque(maxlen=round(FALL_LOOKBACK / 0.02))
+    fall_legs: list[int] = []
+    fall_motions: list[str] = []
     while k < len(COURSE) and cycles * 0.02 < limit:
         tx, ty, stop = COURSE[k]
         pc = tr.percepts()[0]
@@ -128,19 +141,44 @@ def course(t: int, limit: float = 240.0, rng: np.random.Generator | None = None)
         else:
             cmd = walk_toward(dx, dy, None, mo.walk.params)
         v = mo.recover(pc)  # a fallen robot gets up by its getup skills, then walks on
+        recent.append((float(mo.walk.step[0]), float(mo.walk.step[2]), v is not None))
         if v is None:
             v = mo.walk_step(pc, *cmd)
             odo.update(*mo.last.odometry)
         tr.step({0: Action(v)})
         cycles += 1
         down = fallen(tr)
-        falls += down and not was_down
+        if down and not was_down:
+            falls += 1
+            fall_legs.append(min(k, len(COURSE) - 1))
+            fall_motions.append(fall_motion(list(recent)))
         was_down = down
     x, y, h = tr.world.player_pose(0)
     return {"waypoints": len(COURSE), "reached": k, "falls": falls, "getups_started": mo.getup.count,
             "seconds": round(cycles * 0.02, 1),
             "odometry_error_m": round(math.hypot(x - odo.x, y - odo.y), 3),
-            "odometry_heading_error_deg": round(abs(math.degrees(wrap(h - odo.heading))), 1)}
+            "odometry_heading_error_deg": round(abs(math.degrees(wrap(h - odo.heading))), 1),
+            "fall_legs": fall_legs, "fall_motions": fall_motions}
+
+
+def fall_motion(recent: list[tuple[float, float, bool]]) -> str:
+    """What the robot did in the second before a fall, from (forward step (m), turn
+    step (rad), in a getup or holding still after a fall) per cycle: "getup", or "in
+    place" (forward steps under 10 mm), "slowing", "speeding up" (the forward step
+    ended below, or started below, 80% of its largest) or "steady", with ", turning"
+    when a turn step passed FALL_TURNING."""
+    if any(g for _, _, g in recent):
+        return "getup"
+    xs = [abs(x) for x, _, _ in recent]
+    top = max(xs, default=0.0)
+    turning = ", turning" if any(abs(th) > FALL_TURNING for _, th, _ in recent) else ""
+    if top < 0.01:
+        return "in place" + turning
+    if xs[-1] < 0.8 * top:
+        return "slowing" + turning
+    if xs[0] < 0.8 * top:
+        return "speeding up" + turning
+    return "steady" + turning
 
 
 SPEEDS = {  # JSON key: (walk inputs, walk set, what is measured, sign)
@@ -177,6 +215,12 @@ def getups(t: int, tries: int) -> dict | None:
     return getup_stats(t, tries) if tries > 0 else None
 
 
+def by_motion(runs: list[dict]) -> dict[str, int]:
+    """Falls over `runs` by what the walk did in the second before (`fall_motion`)."""
+    n = Counter(m for r in runs for m in r["fall_motions"])
+    return {m: n[m] for m in FALL_MOTIONS}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--types", default="0,1,2,3,4")
@@ -211,7 +255,9 @@ def main() -> None:
             "runs": len(runs), "falls": [r["falls"] for r in runs],
             "runs_with_falls": fell, "runs_with_falls_ci95": rate_ci(fell, len(runs)),
             "getups_started": [r["getups_started"] for r in runs],
-            "reached": [r["reached"] for r in runs], "seconds": [r["seconds"] for r in runs]}
+            "reached": [r["reached"] for r in runs], "seconds": [r["seconds"] for r in runs],
+            "falls_by_leg": [sum(r["fall_legs"].count(i) for r in runs) for i in range(len(COURSE))],
+            "falls_by_motion": by_motion(runs)}
         row.update({"getup": getups(t, args.getup_tries),
                     "wall_seconds": round(time.perf_counter() - start, 1), "machine": info})
         print(json.dumps(row), flush=True)

@@ -1,0 +1,25 @@
+import math
+
+from benchmarks.walk import FALL_MOTIONS, by_motion, fall_motion
+
+
+def test_fall_motion_tells_what_the_walk_did_before_a_fall():
+    steady = [(0.05, 0.0, False)] * 50
+    assert fall_motion(steady) == "steady"
+    assert fall_motion([(0.005 * (i % 2), 0.0, False) for i in range(50)]) == "in place"
+    assert fall_motion([(0.0, math.radians(9), False)] * 50) == "in place, turning"
+    assert fall_motion([(0.06 - 0.001 * i, 0.0, False) for i in range(50)]) == "slowing"
+    turn_in = [(0.06 - 0.001 * i, math.radians(0.2 * i), False) for i in range(50)]
+    assert fall_motion(turn_in) == "slowing, turning"  # after a waypoint, turning to the next
+    assert fall_motion([(0.01 + 0.001 * i, 0.0, False) for i in range(50)]) == "speeding up"
+    assert fall_motion([(-0.03, -math.radians(3), False)] * 50) == "steady"  # backward is walking
+    assert fall_motion(steady[:-1] + [(0.05, 0.0, True)]) == "getup"
+    assert fall_motion([]) == "in place"  # a fall in the first cycle
+    assert all(fall_motion(r) in FALL_MOTIONS for r in (steady, turn_in, []))
+
+
+def test_falls_are_counted_by_motion_over_runs():
+    runs = [{"fall_motions": ["slowing", "getup"]}, {"fall_motions": []}, {"fall_motions": ["slowing"]}]
+    n = by_motion(runs)
+    assert list(n) == list(FALL_MOTIONS)
+    assert n["slowing"] == 2 and n["getup"] == 1 and sum(n.values()) == 3
