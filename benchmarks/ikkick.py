@@ -9,11 +9,13 @@ uniform offset within +-jitter (m) on x and y, the kick is reset with the ball's
 true offset (robot frame) and played from percepts only; then the robot stands
 while the ball rolls to a stop (at most `--roll` s; the rest is extrapolated by
 `World.ball_rest_position`). Figures: distance the ball moved (m), direction
-error (deg, against `spec.direction`), success (the ball's displacement along
-the kick's direction is at least 1 m and the robot did not fall), falls, and
-the backswing's clearance of the ball at the spec's offset (mm, kinematics:
-`backswing_clearance`; below zero the foot grazes the ball before the strike). The
-kick never reads simulator state; the trial does, for the figures.
+error (deg, against `spec.direction`: the mean of its size, and its signed mean
+(the bias, + to the left) and standard deviation, which tell aim from scatter),
+success (the ball's displacement along the kick's direction is at least 1 m and
+the robot did not fall), falls, and the backswing's clearance of the ball at the
+spec's offset (mm, kinematics: `backswing_clearance`; below zero the foot grazes
+the ball before the strike). The kick never reads simulator state; the trial
+does, for the figures.
 """
 
 from __future__ import annotations
@@ -46,7 +48,8 @@ def _wrap(a: float) -> float:
 def kick_trial(t: int, kick: IkKick, offset: tuple[float, float] = (0.0, 0.0), roll: float = 3.0,
                stand: float = 0.5) -> dict:
     """One kick in physics; returns distance (m), direction (rad, robot frame at the start),
-    along (m, displacement along spec.direction), fell, contact time (s)."""
+    along (m, displacement along spec.direction), fell, and the direction's deviation
+    from spec.direction (rad, + to the left) and its size (error)."""
     tr, mo = new_robot(t)
     w = tr.world
     for _ in range(round(stand / 0.02)):  # stand and kick at the kicks' gains, as the Kicker does
@@ -80,7 +83,7 @@ def kick_trial(t: int, kick: IkKick, offset: tuple[float, float] = (0.0, 0.0), r
     a = kick.spec.direction
     along = dx * math.cos(a) + dy * math.sin(a)
     return {"distance": dist, "direction": direction, "along": along, "fell": fell,
-            "error": abs(_wrap(direction - a))}
+            "deviation": _wrap(direction - a), "error": abs(_wrap(direction - a))}
 
 
 class _Scene:
@@ -150,11 +153,14 @@ def run(types, names, tries, seed, jitter, params, roll) -> list[dict]:
                 res.append(kick_trial(t, kick, off, roll))
             dist = np.array([r["distance"] for r in res])
             err = np.degrees([r["error"] for r in res])
+            dev = np.degrees([r["deviation"] for r in res])
             ok = [r["along"] >= 1.0 and not r["fell"] for r in res]
             line = {"kick": name, "type": t, "tries": tries, "jitter_m": jitter,
                     "distance_mean_m": round(float(dist.mean()), 3),
                     "distance_std_m": round(float(dist.std()), 3),
                     "direction_error_mean_deg": round(float(err.mean()), 1),
+                    "direction_bias_deg": round(float(dev.mean()), 1),
+                    "direction_sd_deg": round(float(dev.std()), 1),
                     "success_rate": round(sum(ok) / tries, 2),
                     "falls": sum(r["fell"] for r in res),
                     "backswing_clearance_mm": round(1000.0 * backswing_clearance(kick)[0], 1),
