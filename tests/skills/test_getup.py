@@ -6,11 +6,14 @@ import numpy as np
 import pytest
 
 from models import nao
+from models.messages import Action
 from models.scene import Lineup
 from server.sensors import Proprioception
+from server.trainer import Trainer
 from server.world import World
 from skills.control import JointPid
 from skills.falls import BACK, FALLING, FRONT, LEFT, RIGHT, UPRIGHT, FallDetector, Getup
+from skills.motion import Motion
 from skills.params import ParamError
 from skills.skill import read_skills, skill_path
 from tests.skills.imu_traces import WALK_A, WALK_B
@@ -146,6 +149,41 @@ def test_gets_up(robot_type, lying):
     up = [t for t in took if t is not None]
     assert len(up) >= 2, f"type {robot_type} got up from the {lying} in {len(up)} of 3 tries"
     assert max(up) < 3.0
+
+
+def recover_from_front(robot_type: int, seed: int, seconds: float = 4.0) -> tuple[int, float]:
+    """A robot lying face down with its legs in the walk's stand pose (as a walking robot
+    lands), driven as in a match: `Motion.recover`, else the walk's stand. Returns the
+    getups started and the torso's up-vector z after `seconds`."""
+    rng = np.random.default_rng(seed)
+    tr = Trainer(Lineup((robot_type,), ()), vision=False)
+    tr.world.place_ball((10.0, 8.0))
+    mo = Motion(robot_type)
+    stand = mo.walk.update(0.0, 0.0, 0.0).targets
+    mo.reset()
+    specs = nao.joints(robot_type)
+    q0 = np.clip(np.where(np.isnan(stand), 0.0, stand) + rng.normal(0.0, 0.05, stand.shape),
+                 [j.lower for j in specs], [j.upper for j in specs])
+    tr.world.place_robot(0, 0.0, 0.0, rng.uniform(-math.pi, math.pi), joints=q0, lying="front")
+    tr.world.settle_height(0)
+    for _ in range(round(seconds / 0.02)):
+        pc = tr.percepts()[0]
+        v = mo.recover(pc)
+        tr.step({0: Action(mo.walk_step(pc, 0.0, 0.0, 0.0) if v is None else v)})
+    return mo.getup.count, float(tr.world.torso_up()[0])
+
+
+@pytest.mark.parametrize("robot_type", [0, 2, 4])
+def test_gets_up_from_the_front_as_in_a_match(robot_type):
+    """From the walk's bent legs the front getup first lays the body flat (its first
+    state), as the benchmark's lying start is: without that, types 0 and 2 stood on
+    the first getup in 3-5 of 20 tries and fell over backward in the rest (on the
+    walk course, 10 of type 2's 18 falls were failed getups); with it, in 18 of 20.
+    Two of three seeded tries stand on the first getup. (Types 1 and 3 still fail
+    from there: the note of the change says so.)"""
+    ok = [count == 1 and up > 0.9 for count, up in
+          (recover_from_front(robot_type, seed=100 * robot_type + k) for k in range(3))]
+    assert sum(ok) >= 2, f"type {robot_type}: stood on the first front getup in {sum(ok)} of 3 tries"
 
 
 def test_upright_robot_plays_no_getup():
