@@ -1,15 +1,23 @@
 """Getup benchmark: success rate and mean time from lying on the front and on the back.
 
 For each robot type, `--tries` attempts from each side: the robot is placed
-lying (`World.place_robot(..., lying=...)`) at a random heading with randomly
-perturbed joint angles (seeded), held 0.5 s to settle, then driven only by
-`skills.falls.Getup` through its percepts. Success: within `--limit` seconds
-the torso's up-vector z exceeds 0.9 and its height 0.8 x the stand height, and
-both still hold after standing 1 s more. Time is when that first held. Each
-rate comes with its 95% interval (`benchmarks.stats.rate_ci`).
-Prints one JSON line per robot type.
+lying (`World.place_robot(..., lying=...)`) at a random heading, then driven
+only through its percepts. Two starts (`--start`):
 
-    python benchmarks/getup.py [--types 0 1 2 3 4] [--tries 20] [--seed 0]
+* flat (the default; the start the getups were learned from): joint angles
+  perturbed about 0 (seeded), held 0.5 s to settle, then `skills.falls.Getup`
+  alone with a plain joint PID;
+* walk (as in a match): the walk's stand pose, perturbed, as a robot that falls
+  while walking lands, and `skills.motion.Motion` in charge, as on the pitch:
+  the walk's stand until its tilt estimate says the robot is down, then
+  `Motion.recover`'s getups and the walk's stand again.
+
+Success: within `--limit` seconds the torso's up-vector z exceeds 0.9 and its
+height 0.8 x the stand height, with no getup playing, and both still hold after
+standing 1 s more. Time is when that first held. Each rate comes with its 95%
+interval (`benchmarks.stats.rate_ci`). Prints one JSON line per robot type.
+
+    python benchmarks/getup.py [--types 0 1 2 3 4] [--tries 20] [--seed 0] [--start flat|walk]
 """
 
 from __future__ import annotations
@@ -24,17 +32,22 @@ import numpy as np
 
 from benchmarks.stats import rate_ci
 from models import nao
+from models.messages import Action
 from models.scene import Lineup
 from server.sensors import Proprioception
+from server.trainer import Trainer
 from server.world import World
 from skills.control import JointPid
 from skills.falls import Getup
+from skills.motion import Motion
 
+STARTS = ("flat", "walk")
 SETTLE = 0.5  # s lying still before the getup starts
 HOLD = 1.0  # s the robot must stay up
 UP_MIN = 0.9
 HEIGHT_FRACTION = 0.8
-JOINT_NOISE = 0.15  # rad, sigma of the joint perturbation
+JOINT_NOISE = 0.15  # rad, sigma of the joint perturbation (flat start)
+WALK_NOISE = 0.05  # rad, sigma of the perturbation of the walk's stand pose (walk start)
 
 
 def attempt(world: World, robot_type: int, lying: str, rng: np.random.Generator,
@@ -84,26 +97,73 @@ def attempt(world: World, robot_type: int, lying: str, rng: np.random.Generator,
     return None
 
 
+def attempt_walk(trainer: Trainer, robot_type: int, lying: str, rng: np.random.Generator,
+                 limit: float = 3.0) -> float | None:
+    """One getup as in a match, from `lying` with the legs in the walk's stand pose;
+    the time (s) to stand, or None on failure (see the module docstring)."""
+    world = trainer.world
+    mo = Motion(robot_type)
+    stand = mo.walk.update(0.0, 0.0, 0.0).targets
+    mo.reset()
+    specs = nao.joints(robot_type)
+    lo, hi = np.array([j.lower for j in specs]), np.array([j.upper for j in specs])
+    q0 = np.clip(np.where(np.isnan(stand), 0.0, stand) + rng.normal(0.0, WALK_NOISE, len(specs)), lo, hi)
+    world.place_ball((10.0, 8.0))
+    world.place_robot(0, -3.0, 3.0, rng.uniform(-math.pi, math.pi), joints=q0, lying=lying)
+    world.settle_height(0)
+    height = nao.standing_height(robot_type)
+    t0 = world.time
+    up_since = None
+    while world.time - t0 < limit + HOLD + 1e-9:
+        pc = trainer.percepts()[0]
+        v = mo.recover(pc)
+        trainer.step({0: Action(mo.walk_step(pc, 0.0, 0.0, 0.0) if v is None else v)})
+        up = world.torso_up()[0] > UP_MIN and world.torso_positions()[0, 2] > HEIGHT_FRACTION * height
+        if up and not mo.getup.busy:
+            up_since = world.time if up_since is None else up_since
+            if world.time - up_since >= HOLD - 1e-9:
+                return up_since - t0
+        else:
+            up_since = None
+            if world.time - t0 > limit:
+                return None
+    return None
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--types", type=int, nargs="+", default=[0, 1, 2, 3, 4])
     ap.add_argument("--tries", type=int, default=20)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--limit", type=float, default=3.0, help="s allowed to get up")
+    ap.add_argument("--start", choices=STARTS, default="flat",
+                    help="flat: joints about 0, the getup alone; walk: the walk's stand pose, "
+                         "Motion in charge, as in a match")
     args = ap.parse_args(argv)
+    if args.tries < 1 or args.limit <= 0:
+        ap.error("--tries must be at least 1 and --limit above 0")
     for t in args.types:
-        print(json.dumps({"robot_type": t, **getup_stats(t, args.tries, args.seed, args.limit)}), flush=True)
+        row = getup_stats(t, args.tries, args.seed, args.limit, args.start)
+        print(json.dumps({"robot_type": t, **row}), flush=True)
     return 0
 
 
-def getup_stats(robot_type: int, tries: int = 20, seed: int = 0, limit: float = 3.0) -> dict:
-    """Success rate and mean time (s) of `tries` getups from each side."""
-    world = World(Lineup((robot_type,), ()))
+def getup_stats(robot_type: int, tries: int = 20, seed: int = 0, limit: float = 3.0,
+                start: str = "flat") -> dict:
+    """Success rate and mean time (s) of `tries` getups from each side, from `start`
+    ("flat" or "walk", see the module docstring)."""
+    if start not in STARTS:
+        raise ValueError(f"start must be one of {', '.join(STARTS)}, not {start!r}")
     rng = np.random.default_rng([seed, robot_type])
-    row: dict = {"tries": tries, "limit_s": limit}
+    row: dict = {"tries": tries, "limit_s": limit, "start": start}
     wall = time.perf_counter()
+    world = World(Lineup((robot_type,), ())) if start == "flat" else None
+    trainer = Trainer(Lineup((robot_type,), ()), vision=False) if start == "walk" else None
     for side in ("front", "back"):
-        times = [attempt(world, robot_type, side, rng, limit) for _ in range(tries)]
+        if world is not None:
+            times = [attempt(world, robot_type, side, rng, limit) for _ in range(tries)]
+        else:
+            times = [attempt_walk(trainer, robot_type, side, rng, limit) for _ in range(tries)]
         ok = [x for x in times if x is not None]
         row[f"{side}_success"] = len(ok) / tries
         row[f"{side}_success_ci95"] = rate_ci(len(ok), tries)
