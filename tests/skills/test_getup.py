@@ -173,14 +173,13 @@ def recover_from_front(robot_type: int, seed: int, seconds: float = 4.0) -> tupl
     return mo.getup.count, float(tr.world.torso_up()[0])
 
 
-@pytest.mark.parametrize("robot_type", [0, 2, 4])
+@pytest.mark.parametrize("robot_type", [0, 1, 2, 3, 4])
 def test_gets_up_from_the_front_as_in_a_match(robot_type):
-    """From the walk's bent legs the front getup first lays the body flat (its first
-    state), as the benchmark's lying start is: without that, types 0 and 2 stood on
-    the first getup in 3-5 of 20 tries and fell over backward in the rest (on the
-    walk course, 10 of type 2's 18 falls were failed getups); with it, in 18 of 20.
-    Two of three seeded tries stand on the first getup. (Types 1 and 3 still fail
-    from there: the note of the change says so.)"""
+    """From the walk's bent legs and arms at its sides the front getup first lays the
+    body flat on its chest, swinging the arms forward beside it: without that, types
+    0-4 stood on the first getup in 0-5 of 20 tries and fell over backward in the rest
+    (on the walk course, 10 of type 2's 18 falls were failed getups); with it, in 18-20
+    of 20. Two of three seeded tries stand on the first getup."""
     ok = [count == 1 and up > 0.9 for count, up in
           (recover_from_front(robot_type, seed=100 * robot_type + k) for k in range(3))]
     assert sum(ok) >= 2, f"type {robot_type}: stood on the first front getup in {sum(ok)} of 3 tries"
