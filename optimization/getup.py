@@ -2,7 +2,9 @@
 
 The trainer lays the robot on its front or back (`World.place_robot(...,
 lying=...)`) at a seeded random heading and spot, with seeded random joint
-angles, and lets it settle holding them for `settle` seconds. Then the getup
+angles (about 0, or with ``start="walk"`` about the walk's stand pose, as a
+robot that falls while walking lands), and lets it settle holding them for
+`settle` seconds. Then the getup
 skills (`skills.falls.Getup`: fall detection, GETUP_FRONT / GETUP_BACK, the
 side rolls) play from the robot's percepts alone for `seconds` (4 s, as UT's),
 their joint targets turned into velocities as an agent's body does in a match
@@ -48,6 +50,8 @@ if TYPE_CHECKING:  # optimization.paramvec and .task import this module: no cycl
 UP_MIN = 0.9  # torso up-vector z above this counts as upright (ground truth)
 HEIGHT_FRACTION = 0.8  # torso height above this fraction of the standing height counts as standing
 CONTROLLERS = ("motion", "pid")
+STARTS = ("flat", "walk")  # the joints the robot lies with: about 0, or about the walk's stand pose
+WALK_NOISE = 0.05  # rad, sigma of the joint angles about the walk's stand pose (start "walk")
 SIDES = {"getup_front": ("front", "front_"), "getup_back": ("back", "back_")}  # set -> (lying, prefix)
 
 # Scales (CMA-ES sigma) and bounds by the slot a parameter fills, file units.
@@ -123,7 +127,9 @@ class GetupTask:
     (`Motion.recover`: the getup through `Motion.command`, then the walk's stand),
     "pid" as `benchmarks/getup.py` does (plain `JointPid`, the getup's last pose held);
     fail_penalty: s taken off a trial that does not end standing (0, UT's fitness,
-    trades a surer getup for a faster one; the benchmark wants it sure).
+    trades a surer getup for a faster one; the benchmark wants it sure);
+    start: "flat" lies with joint angles about 0 (sigma joint_noise), "walk" about
+    the walk's stand pose (sigma WALK_NOISE), as `benchmarks.getup --start walk`.
     """
 
     name: str = "getup_front"
@@ -135,12 +141,15 @@ class GetupTask:
     all_types: int = 0
     controller: str = "motion"
     fail_penalty: float = 0.0
+    start: str = "flat"
 
     def __post_init__(self) -> None:
         if self.name not in SIDES:
             raise ValueError(f"getup task must be one of {', '.join(SIDES)}, not {self.name!r}")
         if self.controller not in CONTROLLERS:
             raise ValueError(f"controller must be one of {', '.join(CONTROLLERS)}, not {self.controller!r}")
+        if self.start not in STARTS:
+            raise ValueError(f"start must be one of {', '.join(STARTS)}, not {self.start!r}")
         if not self.fail_penalty >= 0.0:
             raise ValueError(f"fail_penalty must be at least 0 s, not {self.fail_penalty!r}")
 
@@ -167,14 +176,20 @@ class GetupTask:
         world = trainer.world
         specs = nao.joints(robot_type)
         lo, hi = np.array([j.lower for j in specs]), np.array([j.upper for j in specs])
-        q0 = np.clip(rng.normal(0.0, self.joint_noise, len(specs)), lo, hi)
+        motion = Motion(robot_type)
+        if self.start == "walk":
+            stand = motion.walk.update(0.0, 0.0, 0.0).targets
+            motion.reset()
+            q0 = np.clip(np.where(np.isnan(stand), 0.0, stand) + rng.normal(0.0, WALK_NOISE, len(specs)),
+                         lo, hi)
+        else:
+            q0 = np.clip(rng.normal(0.0, self.joint_noise, len(specs)), lo, hi)
         world.place_ball((10.0, 8.0))
         world.place_robot(0, float(rng.uniform(-2.0, 2.0)), float(rng.uniform(-2.0, 2.0)),
                           float(rng.uniform(-math.pi, math.pi)), joints=q0, lying=lying)
         world.settle_height(0)
         world.data.qpos[world.players[0].root_qpos + 2] += float(rng.uniform(0.0, self.place_noise))
 
-        motion = Motion(robot_type)
         for _ in range(round(self.settle / CYCLE)):
             pc = trainer.percepts()[0]
             trainer.step({0: Action(motion.command(q0, pc))})
@@ -215,12 +230,14 @@ class GetupTask:
 
 
 def getup_front(robot_type: int = 0, seconds: float = 4.0, joint_noise: float = 0.15,
-                all_types: int = 0, controller: str = "motion", fail_penalty: float = 0.0) -> GetupTask:
+                all_types: int = 0, controller: str = "motion", fail_penalty: float = 0.0,
+                start: str = "flat") -> GetupTask:
     return GetupTask("getup_front", robot_type, seconds, joint_noise=joint_noise, all_types=all_types,
-                     controller=controller, fail_penalty=fail_penalty)
+                     controller=controller, fail_penalty=fail_penalty, start=start)
 
 
 def getup_back(robot_type: int = 0, seconds: float = 4.0, joint_noise: float = 0.15,
-               all_types: int = 0, controller: str = "motion", fail_penalty: float = 0.0) -> GetupTask:
+               all_types: int = 0, controller: str = "motion", fail_penalty: float = 0.0,
+               start: str = "flat") -> GetupTask:
     return GetupTask("getup_back", robot_type, seconds, joint_noise=joint_noise, all_types=all_types,
-                     controller=controller, fail_penalty=fail_penalty)
+                     controller=controller, fail_penalty=fail_penalty, start=start)

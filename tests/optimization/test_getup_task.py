@@ -3,6 +3,7 @@
 import pytest
 
 from cli.main import main
+from models import nao
 from optimization.getup import GetupTask
 from optimization.paramvec import PARAM_SETS, ParamSpace, load_values, write_param_file
 from optimization.task import make_task
@@ -30,7 +31,8 @@ def test_a_learned_file_loads_as_getup_parameters(tmp_path):
     path = tmp_path / "best.txt"
     write_param_file(path, values, "learned")
     skills = load_getup_skills([path])
-    assert skills["GETUP_FRONT"].keyframes[2].set["llj3"] == pytest.approx(77.0 * UNITS["deg"])
+    hips = [k.set.get("llj3") for k in skills["GETUP_FRONT"].keyframes]  # k2 follows the lie-flat states
+    assert hips[3] == pytest.approx(77.0 * UNITS["deg"]) and hips.count(hips[3]) == 1
 
 
 def test_a_robot_types_own_file_overrides_the_shared_values_for_that_type_only():
@@ -76,6 +78,32 @@ def test_default_parameters_score_better_than_broken_ones(name):
         lying = task.trial(broken(name), 0).fitness
         assert harsh.trial(broken(name), 0).fitness == pytest.approx(lying - 5.0)
         assert harsh.trial(load_values([name], 0), 0).fitness == good[0]  # seed 0 stands at the end
+
+
+def test_a_walk_start_lies_with_the_walks_bent_legs(monkeypatch):
+    """start="walk": the robot lies as a walking robot lands, its joints about the walk's
+    stand pose (knees bent), and the shipped front getup stands from there; "flat" lies
+    with its joints about 0."""
+    from server.world import World
+    from skills.walk import WalkEngine
+
+    placed = []
+    place = World.place_robot
+    monkeypatch.setattr(World, "place_robot", lambda self, i, *a, joints=None, **k: (
+        placed.append(joints), place(self, i, *a, joints=joints, **k))[1])
+    knee = nao.joint_names(0).index("llj4")
+    stand_knee = WalkEngine(0).update(0.0, 0.0, 0.0).targets[knee]
+    assert stand_knee < -0.5  # the walk stands on bent knees
+    vals = load_values(["getup_front"], 0)
+    walk = GetupTask("getup_front", robot_type=0, start="walk", fail_penalty=3.0)
+    results = [walk.trial(vals, seed) for seed in range(3)]
+    assert all(abs(q[knee] - stand_knee) < 0.2 for q in placed if q is not None)
+    assert sum(r.info["standing_at_end"] for r in results) >= 2
+    placed.clear()
+    GetupTask("getup_front", robot_type=0).trial(vals, 0)
+    assert all(abs(q[knee]) < 0.6 for q in placed if q is not None)
+    with pytest.raises(ValueError, match="start must be one of flat, walk"):
+        GetupTask("getup_front", start="sitting")
 
 
 def test_a_trial_is_reproducible_from_its_seed():
