@@ -27,6 +27,7 @@ import json
 import math
 import sys
 import time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -72,11 +73,10 @@ def attempt(world: World, robot_type: int, lying: str, rng: np.random.Generator,
     getup = getup or Getup(robot_type)
     getup.reset()
     pid.reset()
-    stand = nao.standing_height(robot_type)
-    t0 = world.time
-    up_since = None
     hold_targets = None
-    while world.time - t0 < limit + HOLD + 1e-9:
+
+    def cycle() -> None:
+        nonlocal hold_targets
         q, gyro, acc, _ = sense.read()[0]
         targets = getup.step(world.time, q, acc, gyro)
         if targets is not None:
@@ -85,16 +85,8 @@ def attempt(world: World, robot_type: int, lying: str, rng: np.random.Generator,
             hold_targets = q.copy()
         ctrl[act] = pid(targets if targets is not None else hold_targets, q)
         world.step(ctrl)
-        up = world.torso_up()[0] > UP_MIN and world.torso_positions()[0, 2] > HEIGHT_FRACTION * stand
-        if up and not getup.busy:
-            up_since = world.time if up_since is None else up_since
-            if world.time - up_since >= HOLD - 1e-9:
-                return up_since - t0
-        else:
-            up_since = None
-            if world.time - t0 > limit:
-                return None
-    return None
+
+    return time_to_stand(world, robot_type, cycle, lambda: getup.busy, limit)
 
 
 def attempt_walk(trainer: Trainer, robot_type: int, lying: str, rng: np.random.Generator,
@@ -111,15 +103,27 @@ def attempt_walk(trainer: Trainer, robot_type: int, lying: str, rng: np.random.G
     world.place_ball((10.0, 8.0))
     world.place_robot(0, -3.0, 3.0, rng.uniform(-math.pi, math.pi), joints=q0, lying=lying)
     world.settle_height(0)
+
+    def cycle() -> None:
+        pc = trainer.percepts()[0]
+        v = mo.recover(pc)
+        trainer.step({0: Action(mo.walk_step(pc, 0.0, 0.0, 0.0) if v is None else v)})
+
+    return time_to_stand(world, robot_type, cycle, lambda: mo.getup.busy, limit)
+
+
+def time_to_stand(world: World, robot_type: int, cycle: Callable[[], None], busy: Callable[[], bool],
+                  limit: float) -> float | None:
+    """Play `cycle` (one 20 ms step of the getup's control) until the robot has stood
+    `HOLD` s with no getup playing (`busy` false): the time (s) it first stood, or None
+    when it is not standing `limit` s after the start."""
     height = nao.standing_height(robot_type)
     t0 = world.time
     up_since = None
     while world.time - t0 < limit + HOLD + 1e-9:
-        pc = trainer.percepts()[0]
-        v = mo.recover(pc)
-        trainer.step({0: Action(mo.walk_step(pc, 0.0, 0.0, 0.0) if v is None else v)})
+        cycle()
         up = world.torso_up()[0] > UP_MIN and world.torso_positions()[0, 2] > HEIGHT_FRACTION * height
-        if up and not mo.getup.busy:
+        if up and not busy():
             up_since = world.time if up_since is None else up_since
             if world.time - up_since >= HOLD - 1e-9:
                 return up_since - t0
