@@ -35,6 +35,7 @@ from benchmarks.stats import rate_ci
 from models import nao
 from models.messages import Action
 from models.scene import Lineup
+from optimization.getup import STARTS, lying_joints
 from server.sensors import Proprioception
 from server.trainer import Trainer
 from server.world import World
@@ -42,21 +43,17 @@ from skills.control import JointPid
 from skills.falls import Getup
 from skills.motion import Motion
 
-STARTS = ("flat", "walk")
 SETTLE = 0.5  # s lying still before the getup starts
 HOLD = 1.0  # s the robot must stay up
 UP_MIN = 0.9
 HEIGHT_FRACTION = 0.8
 JOINT_NOISE = 0.15  # rad, sigma of the joint perturbation (flat start)
-WALK_NOISE = 0.05  # rad, sigma of the perturbation of the walk's stand pose (walk start)
 
 
 def attempt(world: World, robot_type: int, lying: str, rng: np.random.Generator,
             limit: float = 3.0, getup: Getup | None = None) -> float | None:
     """One getup from `lying` ("front"/"back"); returns the time (s) to stand, or None on failure."""
-    specs = nao.joints(robot_type)
-    lo, hi = np.array([j.lower for j in specs]), np.array([j.upper for j in specs])
-    q0 = np.clip(rng.normal(0.0, JOINT_NOISE, len(specs)), lo, hi)
+    q0 = lying_joints(robot_type, rng, "flat", JOINT_NOISE)
     world.place_ball((10.0, 8.0))
     for i in range(1, len(world.players)):  # anyone else waits far away
         world.place_robot(i, 12.0, -8.0, 0.0)
@@ -95,11 +92,7 @@ def attempt_walk(trainer: Trainer, robot_type: int, lying: str, rng: np.random.G
     the time (s) to stand, or None on failure (see the module docstring)."""
     world = trainer.world
     mo = Motion(robot_type)
-    stand = mo.walk.update(0.0, 0.0, 0.0).targets
-    mo.reset()
-    specs = nao.joints(robot_type)
-    lo, hi = np.array([j.lower for j in specs]), np.array([j.upper for j in specs])
-    q0 = np.clip(np.where(np.isnan(stand), 0.0, stand) + rng.normal(0.0, WALK_NOISE, len(specs)), lo, hi)
+    q0 = lying_joints(robot_type, rng, "walk")
     world.place_ball((10.0, 8.0))
     world.place_robot(0, -3.0, 3.0, rng.uniform(-math.pi, math.pi), joints=q0, lying=lying)
     world.settle_height(0)

@@ -42,6 +42,7 @@ from skills.falls import GETUP_FILES, Getup, getup_param_paths
 from skills.motion import Motion
 from skills.params import UNITS, load_params
 from skills.skill import Skill, read_skills, skill_path
+from skills.walk import WalkEngine
 
 if TYPE_CHECKING:  # optimization.paramvec and .task import this module: no cycle at run time
     from optimization.paramvec import ParamSetDef, Values
@@ -61,6 +62,22 @@ _SLOT_SIGMA = {"arm": 10.0, "aroll": 8.0, "elbow": 8.0, "yaw": 6.0, "hip": 6.0, 
                "ankle": 6.0, "wait": 0.05}
 ANGLE_BOUNDS = (-200.0, 200.0)  # deg
 WAIT_BOUNDS = (0.02, 1.5)  # s
+
+
+def lying_joints(robot_type: int, rng: np.random.Generator, start: str = "flat",
+                 joint_noise: float = 0.15) -> np.ndarray:
+    """Joint angles (rad, league order, within the joints' limits) a robot lies with for a
+    getup: about 0 (start "flat", sigma `joint_noise`; the start the getups were learned
+    from) or about the walk's stand pose (start "walk", sigma WALK_NOISE), knees bent and
+    arms at the sides, as a robot that falls while walking lands."""
+    if start not in STARTS:
+        raise ValueError(f"start must be one of {', '.join(STARTS)}, not {start!r}")
+    specs = nao.joints(robot_type)
+    lo, hi = np.array([j.lower for j in specs]), np.array([j.upper for j in specs])
+    if start == "flat":
+        return np.clip(rng.normal(0.0, joint_noise, len(specs)), lo, hi)
+    stand = WalkEngine(robot_type).update(0.0, 0.0, 0.0).targets
+    return np.clip(np.where(np.isnan(stand), 0.0, stand) + rng.normal(0.0, WALK_NOISE, len(specs)), lo, hi)
 
 
 def getup_schema() -> dict[str, str]:
@@ -174,22 +191,14 @@ class GetupTask:
         lying = SIDES[self.name][0]
         trainer = Trainer(Lineup((robot_type,), ()), seed=int(rng.integers(2**31)), vision=False)
         world = trainer.world
-        specs = nao.joints(robot_type)
-        lo, hi = np.array([j.lower for j in specs]), np.array([j.upper for j in specs])
-        motion = Motion(robot_type)
-        if self.start == "walk":
-            stand = motion.walk.update(0.0, 0.0, 0.0).targets
-            motion.reset()
-            q0 = np.clip(np.where(np.isnan(stand), 0.0, stand) + rng.normal(0.0, WALK_NOISE, len(specs)),
-                         lo, hi)
-        else:
-            q0 = np.clip(rng.normal(0.0, self.joint_noise, len(specs)), lo, hi)
+        q0 = lying_joints(robot_type, rng, self.start, self.joint_noise)
         world.place_ball((10.0, 8.0))
         world.place_robot(0, float(rng.uniform(-2.0, 2.0)), float(rng.uniform(-2.0, 2.0)),
                           float(rng.uniform(-math.pi, math.pi)), joints=q0, lying=lying)
         world.settle_height(0)
         world.data.qpos[world.players[0].root_qpos + 2] += float(rng.uniform(0.0, self.place_noise))
 
+        motion = Motion(robot_type)
         for _ in range(round(self.settle / CYCLE)):
             pc = trainer.percepts()[0]
             trainer.step({0: Action(motion.command(q0, pc))})

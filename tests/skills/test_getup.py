@@ -8,6 +8,7 @@ import pytest
 from models import nao
 from models.messages import Action
 from models.scene import Lineup
+from optimization.getup import lying_joints
 from server.sensors import Proprioception
 from server.trainer import Trainer
 from server.world import World
@@ -159,11 +160,7 @@ def recover_from_front(robot_type: int, seed: int, seconds: float = 4.0) -> tupl
     tr = Trainer(Lineup((robot_type,), ()), vision=False)
     tr.world.place_ball((10.0, 8.0))
     mo = Motion(robot_type)
-    stand = mo.walk.update(0.0, 0.0, 0.0).targets
-    mo.reset()
-    specs = nao.joints(robot_type)
-    q0 = np.clip(np.where(np.isnan(stand), 0.0, stand) + rng.normal(0.0, 0.05, stand.shape),
-                 [j.lower for j in specs], [j.upper for j in specs])
+    q0 = lying_joints(robot_type, rng, "walk")
     tr.world.place_robot(0, 0.0, 0.0, rng.uniform(-math.pi, math.pi), joints=q0, lying="front")
     tr.world.settle_height(0)
     for _ in range(round(seconds / 0.02)):
