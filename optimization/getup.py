@@ -4,9 +4,9 @@ The trainer lays the robot on its front or back (`World.place_robot(...,
 lying=...)`) at a seeded random heading and spot, with seeded random joint
 angles (about 0, or with ``start="walk"`` about the walk's stand pose, as a
 robot that falls while walking lands), and lets it settle holding them for
-`settle` seconds. Then the getup
-skills (`skills.falls.Getup`: fall detection, GETUP_FRONT / GETUP_BACK, the
-side rolls) play from the robot's percepts alone for `seconds` (4 s, as UT's),
+`settle` seconds. Then the getup skills (`skills.falls.Getup`: fall detection,
+GETUP_FRONT / GETUP_BACK, the side rolls) play from the robot's percepts alone for
+`seconds` (4 s, as UT's),
 their joint targets turned into velocities as an agent's body does in a match
 (`skills.motion.Motion.recover`: PID plus feed-forward, then the walk's stand),
 or, with ``controller="pid"``, by the plain joint PID the getup benchmark and
@@ -25,6 +25,7 @@ A learned file (``front_k1_arm<TAB>...``) loads with
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -76,8 +77,17 @@ def lying_joints(robot_type: int, rng: np.random.Generator, start: str = "flat",
     lo, hi = np.array([j.lower for j in specs]), np.array([j.upper for j in specs])
     if start == "flat":
         return np.clip(rng.normal(0.0, joint_noise, len(specs)), lo, hi)
+    return np.clip(_walk_stand(robot_type) + rng.normal(0.0, WALK_NOISE, len(specs)), lo, hi)
+
+
+@functools.cache
+def _walk_stand(robot_type: int) -> np.ndarray:
+    """The walk's stand pose (rad, league order; 0 where the walk sets nothing), built
+    once a type (a walk engine takes about 6 ms, a getup trial about 100)."""
     stand = WalkEngine(robot_type).update(0.0, 0.0, 0.0).targets
-    return np.clip(np.where(np.isnan(stand), 0.0, stand) + rng.normal(0.0, WALK_NOISE, len(specs)), lo, hi)
+    out = np.where(np.isnan(stand), 0.0, stand)
+    out.flags.writeable = False
+    return out
 
 
 def getup_schema() -> dict[str, str]:
