@@ -53,6 +53,7 @@ UP_MIN = 0.9  # torso up-vector z above this counts as upright (ground truth)
 HEIGHT_FRACTION = 0.8  # torso height above this fraction of the standing height counts as standing
 CONTROLLERS = ("motion", "pid")
 STARTS = ("flat", "walk")  # the joints the robot lies with: about 0, or about the walk's stand pose
+TASK_STARTS = STARTS + ("mixed",)  # the task's: "mixed" draws flat or walk each trial
 WALK_NOISE = 0.05  # rad, sigma of the joint angles about the walk's stand pose (start "walk")
 SIDES = {"getup_front": ("front", "front_"), "getup_back": ("back", "back_")}  # set -> (lying, prefix)
 
@@ -156,7 +157,9 @@ class GetupTask:
     fail_penalty: s taken off a trial that does not end standing (0, UT's fitness,
     trades a surer getup for a faster one; the benchmark wants it sure);
     start: "flat" lies with joint angles about 0 (sigma joint_noise), "walk" about
-    the walk's stand pose (sigma WALK_NOISE), as `benchmarks.getup --start walk`.
+    the walk's stand pose (sigma WALK_NOISE), as `benchmarks.getup --start walk`;
+    "mixed" draws one of the two from each trial's seed (a getup learned from one
+    start alone got worse from the other).
     """
 
     name: str = "getup_front"
@@ -175,8 +178,8 @@ class GetupTask:
             raise ValueError(f"getup task must be one of {', '.join(SIDES)}, not {self.name!r}")
         if self.controller not in CONTROLLERS:
             raise ValueError(f"controller must be one of {', '.join(CONTROLLERS)}, not {self.controller!r}")
-        if self.start not in STARTS:
-            raise ValueError(f"start must be one of {', '.join(STARTS)}, not {self.start!r}")
+        if self.start not in TASK_STARTS:
+            raise ValueError(f"start must be one of {', '.join(TASK_STARTS)}, not {self.start!r}")
         if not self.fail_penalty >= 0.0:
             raise ValueError(f"fail_penalty must be at least 0 s, not {self.fail_penalty!r}")
 
@@ -201,7 +204,8 @@ class GetupTask:
         lying = SIDES[self.name][0]
         trainer = Trainer(Lineup((robot_type,), ()), seed=int(rng.integers(2**31)), vision=False)
         world = trainer.world
-        q0 = lying_joints(robot_type, rng, self.start, self.joint_noise)
+        start = STARTS[int(rng.integers(2))] if self.start == "mixed" else self.start
+        q0 = lying_joints(robot_type, rng, start, self.joint_noise)
         world.place_ball((10.0, 8.0))
         world.place_robot(0, float(rng.uniform(-2.0, 2.0)), float(rng.uniform(-2.0, 2.0)),
                           float(rng.uniform(-math.pi, math.pi)), joints=q0, lying=lying)
@@ -245,7 +249,8 @@ class GetupTask:
         not_standing = down * CYCLE
         fitness = -not_standing - (0.0 if up else self.fail_penalty)
         return TrialResult(fitness, {"robot_type": robot_type, "first_up": first_up,
-                                     "getups": getup.count, "standing_at_end": up})
+                                     "getups": getup.count, "standing_at_end": up,
+                                     "start": start})
 
 
 def getup_front(robot_type: int = 0, seconds: float = 4.0, joint_noise: float = 0.15,

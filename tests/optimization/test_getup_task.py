@@ -102,7 +102,13 @@ def test_a_walk_start_lies_with_the_walks_bent_legs(monkeypatch):
     placed.clear()
     GetupTask("getup_front", robot_type=0).trial(vals, 0)
     assert all(abs(q[knee]) < 0.6 for q in placed if q is not None)
-    with pytest.raises(ValueError, match="start must be one of flat, walk"):
+    placed.clear()
+    mixed = GetupTask("getup_front", robot_type=0, start="mixed", seconds=0.1, settle=0.02)
+    starts = [mixed.trial(vals, seed).info["start"] for seed in range(8)]
+    assert set(starts) == {"flat", "walk"}  # both starts drawn over 8 seeds
+    for s, q in zip(starts, [q for q in placed if q is not None]):
+        assert (abs(q[knee] - stand_knee) < 0.2) == (s == "walk")
+    with pytest.raises(ValueError, match="start must be one of flat, walk, mixed"):
         GetupTask("getup_front", start="sitting")
 
 
