@@ -18,16 +18,21 @@ standing 1 s more. Time is when that first held. Each rate comes with its 95%
 interval (`benchmarks.stats.rate_ci`). Prints one JSON line per robot type.
 
     python benchmarks/getup.py [--types 0 1 2 3 4] [--tries 20] [--seed 0] [--start flat|walk]
+                               [--params FILE ...]
+
+`--params` loads getup parameter files after the shipped ones (e.g. a CMA-ES
+best.txt), as `benchmarks.walk --params` does for the walk.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import math
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -40,7 +45,7 @@ from server.sensors import Proprioception
 from server.trainer import Trainer
 from server.world import World
 from skills.control import JointPid
-from skills.falls import Getup
+from skills.falls import Getup, load_getup_skills
 from skills.motion import Motion
 
 SETTLE = 0.5  # s lying still before the getup starts
@@ -87,11 +92,13 @@ def attempt(world: World, robot_type: int, lying: str, rng: np.random.Generator,
 
 
 def attempt_walk(trainer: Trainer, robot_type: int, lying: str, rng: np.random.Generator,
-                 limit: float = 3.0) -> float | None:
+                 limit: float = 3.0, getup: Getup | None = None) -> float | None:
     """One getup as in a match, from `lying` with the legs in the walk's stand pose;
     the time (s) to stand, or None on failure (see the module docstring)."""
     world = trainer.world
     mo = Motion(robot_type)
+    if getup is not None:
+        mo.getup = getup
     q0 = lying_joints(robot_type, rng, "walk")
     world.place_ball((10.0, 8.0))
     world.place_robot(0, -3.0, 3.0, rng.uniform(-math.pi, math.pi), joints=q0, lying=lying)
@@ -136,31 +143,41 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--start", choices=STARTS, default="flat",
                     help="flat: joints about 0, the getup alone; walk: the walk's stand pose, "
                          "Motion in charge, as in a match")
+    ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
+                    help="getup parameter files loaded after the shipped ones (e.g. a CMA-ES best.txt)")
     args = ap.parse_args(argv)
     if args.tries < 1 or args.limit <= 0:
         ap.error("--tries must be at least 1 and --limit above 0")
     for t in args.types:
-        row = getup_stats(t, args.tries, args.seed, args.limit, args.start)
+        try:  # a bad file fails here, with file:line
+            load_getup_skills(args.params, t)
+        except (OSError, ValueError) as err:
+            ap.error(str(err))
+    for t in args.types:
+        row = getup_stats(t, args.tries, args.seed, args.limit, args.start, args.params)
         print(json.dumps({"robot_type": t, **row}), flush=True)
     return 0
 
 
 def getup_stats(robot_type: int, tries: int = 20, seed: int = 0, limit: float = 3.0,
-                start: str = "flat") -> dict:
+                start: str = "flat", params: Sequence[str] = ()) -> dict:
     """Success rate and mean time (s) of `tries` getups from each side, from `start`
-    ("flat" or "walk", see the module docstring)."""
+    ("flat" or "walk", see the module docstring), the getup parameter files `params`
+    loaded after the shipped ones."""
     if start not in STARTS:
         raise ValueError(f"start must be one of {', '.join(STARTS)}, not {start!r}")
     rng = np.random.default_rng([seed, robot_type])
-    row: dict = {"tries": tries, "limit_s": limit, "start": start}
+    row: dict = {"tries": tries, "limit_s": limit, "start": start, "params": list(params)}
+    skills = load_getup_skills(params, robot_type)
+    getup = functools.partial(Getup, robot_type, skills)  # a fresh one each try
     wall = time.perf_counter()
     world = World(Lineup((robot_type,), ())) if start == "flat" else None
     trainer = Trainer(Lineup((robot_type,), ()), vision=False) if start == "walk" else None
     for side in ("front", "back"):
         if world is not None:
-            times = [attempt(world, robot_type, side, rng, limit) for _ in range(tries)]
+            times = [attempt(world, robot_type, side, rng, limit, getup()) for _ in range(tries)]
         else:
-            times = [attempt_walk(trainer, robot_type, side, rng, limit) for _ in range(tries)]
+            times = [attempt_walk(trainer, robot_type, side, rng, limit, getup()) for _ in range(tries)]
         ok = [x for x in times if x is not None]
         row[f"{side}_success"] = len(ok) / tries
         row[f"{side}_success_ci95"] = rate_ci(len(ok), tries)
