@@ -243,22 +243,22 @@ def _ray_hits_box(pos: np.ndarray, mat: np.ndarray, size: np.ndarray, origin: np
 
 
 @_njit
-def body_sensors(xmat: np.ndarray, cvel: np.ndarray, qacc: np.ndarray, torso: np.ndarray,
-                 root_dof: np.ndarray, gravity: np.ndarray, geom_body: np.ndarray,
+def body_sensors(xmat: np.ndarray, cvel: np.ndarray, acc: np.ndarray, torso: np.ndarray,
+                 gravity: np.ndarray, geom_body: np.ndarray,
                  con_geom: np.ndarray, con_pos: np.ndarray, con_frame: np.ndarray,
                  con_efc: np.ndarray, con_dim: np.ndarray, efc_force: np.ndarray,
                  sole_of_body: np.ndarray, sole_site: np.ndarray, site_xpos: np.ndarray,
                  site_xmat: np.ndarray, site_size: np.ndarray, sole_slot: np.ndarray,
                  out: np.ndarray) -> None:
-    """Every player's gyro, accelerometer and sole forces, as MuJoCo's gyro,
-    accelerometer and touch sensors give them, from the state of the last forward
-    pass (MjData as an `mj_step` leaves it: positions, velocities and contact forces
-    of the step's start), without MuJoCo's sensor stage.
+    """Every player's gyro, accelerometer and sole forces, as MuJoCo's gyro and touch
+    sensors give them, from the state of the last forward pass (MjData as an
+    `mj_step` leaves it: positions, velocities and contact forces of the step's
+    start), without MuJoCo's sensor stage.
 
     The IMU site sits at the torso's origin with the torso's axes, so the gyro is
     the torso's angular velocity (world `cvel`) in the torso frame and the
-    accelerometer the free joint's linear acceleration `qacc` (the origin's, world
-    frame) minus gravity, in the torso frame. A sole's force is the sum of the
+    accelerometer the origin's linear acceleration `acc` (n, 3; world frame, the
+    cycle's mean from `World.root_acc`) minus gravity, in the torso frame. A sole's force is the sum of the
     normal forces (N) of its body's contacts whose ray along the normal, into the
     body, meets the sole's site box (MuJoCo's touch rule); a pyramidal contact's
     normal force is the sum of its facet forces.
@@ -268,11 +268,11 @@ def body_sensors(xmat: np.ndarray, cvel: np.ndarray, qacc: np.ndarray, torso: np
     """
     n = torso.shape[0]
     for i in range(n):
-        b, r = torso[i], root_dof[i]
+        b = torso[i]
         for a in range(3):
             out[i, a] = xmat[b, a] * cvel[b, 0] + xmat[b, 3 + a] * cvel[b, 1] + xmat[b, 6 + a] * cvel[b, 2]
-            out[i, 3 + a] = (xmat[b, a] * (qacc[r] - gravity[0]) + xmat[b, 3 + a] * (qacc[r + 1] - gravity[1])
-                             + xmat[b, 6 + a] * (qacc[r + 2] - gravity[2]))
+            out[i, 3 + a] = (xmat[b, a] * (acc[i, 0] - gravity[0]) + xmat[b, 3 + a] * (acc[i, 1] - gravity[1])
+                             + xmat[b, 6 + a] * (acc[i, 2] - gravity[2]))
         for c in range(6, out.shape[1]):
             out[i, c] = 0.0
     ray = np.empty(3)

@@ -97,10 +97,17 @@ class World:
         self.heights = np.array([nao.standing_height(p.robot_type) for p in self.players])
         self.time = 0.0
         self._touching: set[int] = set()  # players in contact with the ball after the last substep
+        self._root_dofs = np.array([[p.root_qvel + k for k in range(3)] for p in self.players],
+                                   dtype=np.int64).reshape(-1, 3)
+        # Each torso origin's mean linear acceleration over the last cycle (world frame,
+        # m/s^2), for the accelerometer (`server.sensors`); a placed robot's is its
+        # acceleration at placement.
+        self.root_acc = np.zeros((len(self.players), 3))
         # MuJoCo's sensor stage stays off: `server.sensors.Proprioception` computes the
         # same readings from MjData once a cycle, for less.
         m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_SENSOR)
         mujoco.mj_forward(m, self.data)
+        self.root_acc[:] = self.data.qacc[self._root_dofs]
 
     # ------------------------------------------------------------------ physics
 
@@ -115,6 +122,7 @@ class World:
         touches: list[int] = []
         touching = self._touching
         buf, ball, owner = self._touch_buf, self.ball_geom, self.geom_owner
+        v0 = d.qvel[self._root_dofs]
         for _ in range(self.substeps):
             mujoco.mj_step(m, d)
             n = ball_touchers(d.contact.geom, ball, owner, buf)
@@ -123,7 +131,10 @@ class World:
                 touches.extend(sorted(now - touching))
                 touching = now
         self._touching = touching
-        self.time += self.substeps * m.opt.timestep
+        dt = self.substeps * m.opt.timestep
+        np.subtract(d.qvel[self._root_dofs], v0, out=self.root_acc)
+        self.root_acc /= dt
+        self.time += dt
         return touches
 
     # --------------------------------------------------------------- ground truth
@@ -225,6 +236,7 @@ class World:
         d.qpos[a:a + 3] = (x, y, height)
         d.qpos[a + 3:a + 7] = quat
         mujoco.mj_forward(self.model, d)
+        self.root_acc[i] = d.qacc[self._root_dofs[i]]
 
     def settle_height(self, i: int) -> None:
         """Lower player i so that its lowest sole just touches the ground."""
@@ -237,3 +249,4 @@ class World:
         lo = min(d.geom_xpos[g, 2] - np.abs(d.geom_xmat[g, 6:9]) @ m.geom_size[g] for g in boxes)
         d.qpos[p.root_qpos + 2] -= lo - 0.0005
         mujoco.mj_forward(self.model, d)
+        self.root_acc[i] = d.qacc[self._root_dofs[i]]

@@ -224,7 +224,11 @@ def fixed_tolerance(nominal: float) -> float:
     return max(0.7, 0.2 * nominal)
 
 
-FIXED_TRIES = 6  # kicks per fixed-distance set (seeded offsets); the test takes their mean
+# Kicks per fixed-distance set (seeded offsets); the test takes their mean. A kick's
+# distance scatters 1-1.7 m (sd), so six tries' mean moved by up to 1.2 m when nothing
+# but the accelerometer's sampling changed (kick_5m: 5.46 -> 6.66 m, while its benchmark
+# figures stayed within their noise); twelve halve that variance.
+FIXED_TRIES = 12
 FIXED_DIRECTION_TOLERANCE = math.radians(10.0)  # rad, the kicks' mean direction from the spec's
 
 
@@ -259,11 +263,11 @@ def test_a_kick_waits_at_most_start_wait_for_the_pitch_rate():
 @pytest.mark.parametrize("set_name", fixed_distance_sets())
 def test_fixed_distance_kick_reaches_its_distance(set_name):
     # Kicks started at FIXED_TRIES moments of the stand's rocking; these kicks still fall
-    # about one time in ten from a rocking stand (issue 4's open shortfall): two may.
+    # about one time in ten from a rocking stand (issue 4's open shortfall): three may.
     kick = keyframe_kicks(0)[f"{set_name}_left"]
     outs = [kick_once(kick, 0, offset=off, hold=0.6 + 0.1 * i)
             for i, off in enumerate(offsets(seed=7, n=FIXED_TRIES, spread=0.005))]
-    assert sum(o.fell for o in outs) <= 2, outs
+    assert sum(o.fell for o in outs) <= 3, outs
     outs = [o for o in outs if not o.fell]
     nominal = kick.spec.distance
     mean = float(np.mean([o.distance for o in outs]))
