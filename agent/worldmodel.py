@@ -74,7 +74,7 @@ class WorldModel:
         # error fell from 4.8-5.0/3.7-3.8 to 2.1-2.6/2.7-3.4 deg rms; benchmarks.localization
         # walking, seeds 0 and 1: median 0.042/0.059 -> 0.031/0.035 m, p95 0.15/0.35 ->
         # 0.07/0.10 m. A fall the gyro did not see is flagged about a second later.
-        self.tilt = TiltEstimator(blend=0.01)
+        self.tilt = TiltEstimator(blend=0.01, exact=True)
         self.localizer = ParticleFilter(side, seed=seed, params=params)
         self.ball_filter = BallFilter()
         self.landmark_positions = landmarks_in_team(side)
