@@ -258,10 +258,10 @@ def body_sensors(xmat: np.ndarray, cvel: np.ndarray, acc: np.ndarray, torso: np.
     The IMU site sits at the torso's origin with the torso's axes, so the gyro is
     the torso's angular velocity (world `cvel`) in the torso frame and the
     accelerometer the origin's linear acceleration `acc` (n, 3; world frame, the
-    cycle's mean from `World.root_acc`) minus gravity, in the torso frame. A sole's force is the sum of the
-    normal forces (N) of its body's contacts whose ray along the normal, into the
-    body, meets the sole's site box (MuJoCo's touch rule); a pyramidal contact's
-    normal force is the sum of its facet forces.
+    cycle's mean from `World.root_acc`) minus gravity, in the torso frame. A sole's
+    force is the sum of the normal forces (N) of its body's contacts whose ray along
+    the normal, into the body, meets the sole's site box (MuJoCo's touch rule); a
+    pyramidal contact's normal force is the sum of its facet forces.
 
     out (n, 10), per player: gyro (rad/s), accelerometer (m/s^2), then sole forces
     in `sole_slot` order (columns 6-9).
