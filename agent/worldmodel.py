@@ -68,15 +68,15 @@ class WorldModel:
         self.side = side
         self.unum = unum
         self.time = -math.inf
-        # Vision is levelled by this estimate. It takes 1 % of the accelerometer's answer a
-        # cycle, not the skills' 5 % (they were tuned with it): walking, foot strikes shake
-        # the accelerometer, and on benchmarks.walk's course (types 0 and 3) the roll/pitch
-        # error fell from 4.8-5.0/3.7-3.8 to 2.1-2.6/2.7-3.4 deg rms; benchmarks.localization
-        # walking, seeds 0 and 1: median 0.042/0.059 -> 0.031/0.035 m, p95 0.15/0.35 ->
-        # 0.07/0.10 m. A fall the gyro did not see is flagged about a second later. It turns
-        # the estimate by the whole gyro (`exact`): walking forward and turning, 4.3 deg rms
-        # off the torso's tilt, 6.7 with the skills' small-angle rule (pitch 6.1 off).
-        self.tilt = TiltEstimator(blend=0.01, exact=True)
+        # Vision is levelled by this estimate. It turns by the whole gyro (`exact`) and takes
+        # 5 % of the accelerometer's answer a cycle. With the accelerometer read at one physics
+        # substep (aliased foot strikes) it took 1 % (course roll/pitch error 4.8-5.0/3.7-3.8
+        # -> 2.1-2.6/2.7-3.4 deg rms); the cycle's mean acceleration carries no such bias,
+        # and at 1 % the gyro's drift (sampled, it aliases too) then went uncorrected: on
+        # benchmarks.localization's walk, seed 0, roll/pitch 4.9/3.7 deg rms at 1 %, 1.6/1.7
+        # at 5 % (the one-substep accelerometer at 1 %: 2.5/3.0). A fall the gyro did not see
+        # is flagged about 0.6 s later.
+        self.tilt = TiltEstimator(blend=0.05, exact=True)
         self.localizer = ParticleFilter(side, seed=seed, params=params)
         self.ball_filter = BallFilter()
         self.landmark_positions = landmarks_in_team(side)
