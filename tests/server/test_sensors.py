@@ -44,4 +44,3 @@ def test_body_sensors_match_mujocos_sensors():
             assert not got[i, len(want):].any()
             checked += want[6:].sum() > 0
     assert checked >= 15  # soles under load were compared, not just zeros
-

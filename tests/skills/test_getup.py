@@ -152,7 +152,7 @@ def test_gets_up(robot_type, lying):
     assert max(up) < 3.0
 
 
-def recover_from_front(robot_type: int, seed: int, seconds: float = 4.0,
+def recover_as_in_a_match(robot_type: int, seed: int, seconds: float = 4.0,
                        lying: str = "front") -> tuple[int, float, float | None]:
     """A robot lying face down (or `lying` "back") with its legs in the walk's stand pose
     (as a walking robot lands), driven as in a match: `Motion.recover`, else the walk's
@@ -183,7 +183,7 @@ def test_gets_up_from_the_front_as_in_a_match(robot_type):
     (on the walk course, 10 of type 2's 18 falls were failed getups); with it, in 18-20
     of 20. Two of three seeded tries stand on the first getup."""
     ok = [count == 1 and up > 0.9 for count, up, _ in
-          (recover_from_front(robot_type, seed=100 * robot_type + k) for k in range(3))]
+          (recover_as_in_a_match(robot_type, seed=100 * robot_type + k) for k in range(3))]
     assert sum(ok) >= 2, f"type {robot_type}: stood on the first front getup in {sum(ok)} of 3 tries"
 
 
@@ -196,7 +196,7 @@ def test_a_robot_down_on_its_back_from_walking_starts_its_getup_at_once(robot_ty
     benchmarks.getup's 100 walk-start tries on type 4). With the cycle's mean
     acceleration every one of 12 seeded tries starts within 0.14-0.26 s."""
     for k in range(12):
-        _, _, first = recover_from_front(robot_type, 400 + 100 * robot_type + k, 0.6, "back")
+        _, _, first = recover_as_in_a_match(robot_type, 400 + 100 * robot_type + k, 0.6, "back")
         assert first is not None and first < 0.5, f"type {robot_type} seed {k}: getup started at {first} s"
 
 
