@@ -19,6 +19,9 @@ JSON line per robot type:
   waypoint walked to) and by what the walk did in the second before
   (`fall_motion`: in place, speeding up, steady or slowing, each also while
   turning, or in a getup);
+* zigzag (`--zigzag-runs`, `zigzag`): full forward input with the turn input
+  swinging left and right every second, 12 s a run; the share of runs with a
+  fall. It stresses the course's commonest fall, walking and turning, alone;
 * getup success and mean time from front and back (`benchmarks.getup`).
 
 Goals for the hand-tuned defaults (issue 3): forward >= 0.3 m/s, sideways
@@ -28,7 +31,7 @@ the sprint set's (`sprint_forward_m_s`, the set for walking straight ahead);
 
     python -m benchmarks.walk [--types 0,1,2,3,4] [--seconds 10] [--speed-runs N]
                               [--course-runs N] [--params FILE ...] [--skip-speeds]
-                              [--getup-tries N]
+                              [--zigzag-runs N] [--getup-tries N]
 """
 
 from __future__ import annotations
@@ -62,6 +65,14 @@ FALL_TURNING = math.radians(5.0)  # turn step (per step) above which `fall_motio
 FALL_MOTIONS = tuple(f"{m}{t}" for m in ("in place", "speeding up", "steady", "slowing")
                      for t in ("", ", turning")) + ("getup",)
 
+
+# Zigzag: full forward input, the turn input swinging between +0.4 and -0.4 every
+# second. On the course the falls come mostly while walking and turning, and this
+# stresses that alone: type 3 fell in 10 of 20 twelve-second runs, walking straight
+# ahead in 3 of 20 twenty-second ones.
+ZIGZAG_TURN = 0.4
+ZIGZAG_HALF = 1.0  # s
+ZIGZAG_SECONDS = 12.0
 
 PARAMS: list[str] = []  # walk parameter files loaded after the shipped ones (--params)
 
@@ -161,6 +172,38 @@ def course(t: int, limit: float = 240.0, rng: np.random.Generator | None = None)
             "fall_legs": fall_legs, "fall_motions": fall_motions}
 
 
+def zigzag(t: int, seconds: float = ZIGZAG_SECONDS, rng: np.random.Generator | None = None) -> dict:
+    """Walk forward at the full input while the turn input swings between
+    +ZIGZAG_TURN and -ZIGZAG_TURN every ZIGZAG_HALF s, after a 0.5 s stand (as at a
+    quick change of direction; with `rng`, from perturbed joints). Returns whether
+    and when (s) it fell, the distance walked (m) and the largest turn to either
+    side within one half period (deg)."""
+    tr, mo = new_robot(t, rng)
+    for _ in range(25):
+        tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0))})
+    x0, y0, h0 = tr.world.player_pose(0)
+    half = round(ZIGZAG_HALF / 0.02)
+    swings = [0.0, 0.0]  # largest left and right turn within a half period (rad)
+    fell_at, turned, prev = None, 0.0, h0
+    for k in range(round(seconds / 0.02)):
+        sign = 1.0 if (k // half) % 2 == 0 else -1.0
+        if k % half == 0:
+            turned = 0.0
+        tr.step({0: Action(mo.walk_step(tr.percepts()[0], 1.0, 0.0, sign * ZIGZAG_TURN))})
+        h = tr.world.player_pose(0)[2]
+        turned += wrap(h - prev)
+        prev = h
+        side = 0 if sign > 0 else 1
+        swings[side] = max(swings[side], sign * turned)
+        if fallen(tr):
+            fell_at = round((k + 1) * 0.02, 2)
+            break
+    x, y, _ = tr.world.player_pose(0)
+    return {"fell": fell_at is not None, "fell_at_s": fell_at,
+            "distance_m": round(math.hypot(x - x0, y - y0), 3),
+            "left_deg": round(math.degrees(swings[0]), 1), "right_deg": round(math.degrees(swings[1]), 1)}
+
+
 def fall_motion(recent: list[tuple[float, float, bool]]) -> str:
     """What the robot did in the second before a fall, from (forward step (m), turn
     step (rad), in a getup or holding still after a fall) per cycle: "getup", or "in
@@ -230,12 +273,15 @@ def main() -> None:
     ap.add_argument("--getup-tries", type=int, default=20)
     ap.add_argument("--course-runs", type=int, default=20,
                     help="course runs per type; runs after the first start from perturbed joints")
+    ap.add_argument("--zigzag-runs", type=int, default=20,
+                    help="zigzag runs per type (0: none); runs after the first start from perturbed joints")
     ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
                     help="walk parameter files loaded after the shipped ones (e.g. a CMA-ES best.txt)")
     ap.add_argument("--skip-speeds", action="store_true", help="only the course (and getups)")
     args = ap.parse_args()
-    if args.speed_runs < 1 or args.course_runs < 1 or args.seconds <= 0:
-        ap.error("--speed-runs and --course-runs must be at least 1, --seconds above 0")
+    if args.speed_runs < 1 or args.course_runs < 1 or args.seconds <= 0 or args.zigzag_runs < 0:
+        ap.error("--speed-runs and --course-runs must be at least 1, --zigzag-runs at least 0, "
+                 "--seconds above 0")
     PARAMS[:] = args.params
     for t in (int(v) for v in args.types.split(",")):
         try:  # a bad file fails here, with file:line
@@ -258,6 +304,14 @@ def main() -> None:
             "reached": [r["reached"] for r in runs], "seconds": [r["seconds"] for r in runs],
             "falls_by_leg": [sum(r["fall_legs"].count(i) for r in runs) for i in range(len(COURSE))],
             "falls_by_motion": by_motion(runs)}
+        if args.zigzag_runs:
+            zrng = np.random.default_rng([t, 1])
+            zz = [zigzag(t, rng=None if k == 0 else zrng) for k in range(args.zigzag_runs)]
+            zf = sum(r["fell"] for r in zz)
+            row["zigzag"] = {"runs": len(zz), "seconds": ZIGZAG_SECONDS, "runs_with_falls": zf,
+                             "runs_with_falls_ci95": rate_ci(zf, len(zz)),
+                             "fell_at_s": [r["fell_at_s"] for r in zz if r["fell"]],
+                             "distance_m": [r["distance_m"] for r in zz]}
         row.update({"getup": getups(t, args.getup_tries),
                     "wall_seconds": round(time.perf_counter() - start, 1), "machine": info})
         print(json.dumps(row), flush=True)

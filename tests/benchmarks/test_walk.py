@@ -1,6 +1,6 @@
 import math
 
-from benchmarks.walk import FALL_MOTIONS, by_motion, fall_motion
+from benchmarks.walk import FALL_MOTIONS, ZIGZAG_HALF, by_motion, fall_motion, zigzag
 
 
 def test_fall_motion_tells_what_the_walk_did_before_a_fall():
@@ -23,3 +23,12 @@ def test_falls_are_counted_by_motion_over_runs():
     n = by_motion(runs)
     assert list(n) == list(FALL_MOTIONS)
     assert n["slowing"] == 2 and n["getup"] == 1 and sum(n.values()) == 3
+
+
+def test_zigzag_swings_the_heading_both_ways_while_walking_forward():
+    """Two half periods from the plain stand: the torso turns left, then right,
+    and walks on; type 0 does not fall in them."""
+    r = zigzag(0, seconds=2.0 * ZIGZAG_HALF)
+    assert not r["fell"] and r["fell_at_s"] is None
+    assert r["left_deg"] > 10.0 and r["right_deg"] > 10.0
+    assert r["distance_m"] > 0.25
