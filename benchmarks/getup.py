@@ -6,7 +6,7 @@ only through its percepts. Two starts (`--start`):
 
 * flat (the default; the start the getups were learned from): joint angles
   perturbed about 0 (seeded), held 0.5 s to settle, then `skills.falls.Getup`
-  alone with a plain joint PID;
+  alone with a plain joint PID, its end pose held by `Getup.hold`;
 * walk (as in a match): the walk's stand pose, perturbed, as a robot that falls
   while walking lands, and `skills.motion.Motion` in charge, as on the pitch:
   the walk's stand until its tilt estimate says the robot is down, then
@@ -81,11 +81,12 @@ def attempt(world: World, robot_type: int, lying: str, rng: np.random.Generator,
         nonlocal hold_targets
         q, gyro, acc, _ = sense.read()[0]
         targets = getup.step(world.time, q, acc, gyro)
-        if targets is not None:
-            hold_targets = targets.copy()
-        elif hold_targets is None:
-            hold_targets = q.copy()
-        ctrl[act] = pid(targets if targets is not None else hold_targets, q)
+        if targets is None:  # the getup's end pose holds (balanced), or the start pose
+            targets = getup.hold()
+            if targets is None:
+                hold_targets = q.copy() if hold_targets is None else hold_targets
+                targets = hold_targets
+        ctrl[act] = pid(targets, q)
         world.step(ctrl)
 
     return time_to_stand(world, robot_type, cycle, lambda: getup.busy, limit)

@@ -234,6 +234,8 @@ class GetupTask:
                     v = motion.walk_step(pc, 0.0, 0.0, 0.0)
             else:  # as benchmarks/getup.py: plain joint PID, the getup's last pose held
                 target = getup.step(pc.time, pc.joints, pc.accel, pc.gyro)
+                if target is None:
+                    target = getup.hold()  # the end pose, balanced
                 if target is not None:
                     hold = target.copy()
                 elif hold is None:

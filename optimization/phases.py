@@ -192,6 +192,8 @@ class GetupRecovery:
             target = getup.step(pc.time, pc.joints, pc.accel, pc.gyro)
             if target is None and getup.count > 0 and not sim.fallen():
                 break
+            if target is None:
+                target = getup.hold()  # the end pose, balanced
             if target is not None:
                 hold = target
             sim.step(pid(hold if hold is not None else pc.joints.copy(), pc.joints))

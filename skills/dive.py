@@ -211,4 +211,7 @@ class Dive:
         if self._sitting >= self.sit_time - 1e-9:
             self._lying_back = True
             self.lie_back.reset()
+        hold = self.getup.hold()  # the getup's end pose, balanced
+        if hold is not None:
+            self._target = hold
         return self.motion.command(self._target if self._target is not None else percept.joints, percept)

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from models import nao
 from skills.imu import GRAVITY
 from skills.params import PathLike, load_params, with_type_file
 from skills.skill import Skill, SkillPlayer, read_skills, skill_path
@@ -100,6 +101,13 @@ class FallDetector:
 GETUP_FILES = ("getup_front.skl", "getup_back.skl", "roll.skl")  # in skills/data/
 GETUP_PARAMS = "getup.params"  # in skills/data/: tuned values of the getups' $parameters
 SKILL_FOR = {FRONT: "GETUP_FRONT", BACK: "GETUP_BACK", LEFT: "ROLL_LEFT", RIGHT: "ROLL_RIGHT"}
+# Holding a getup's last pose, the ankles pitch against the torso's fore-aft lean (from
+# the filtered accelerometer): rad of ankle pitch per rad of lean. A getup that ends
+# tipped back onto its heels (type 2 from the back: 26 deg, only the heels touching)
+# comes down onto its soles; one that ends upright holds its pose nearly as played.
+HOLD_ANKLE_GAIN = -0.5
+HOLD_ANKLE_MAX = 0.3  # rad: the most the hold turns the ankles
+ANKLE_PITCH = ("llj5", "rlj5")
 
 
 def getup_param_paths(robot_type: int | None = None) -> list[str]:
@@ -147,6 +155,9 @@ class Getup:
         self.detector = detector or FallDetector()
         self.active = None  # the side whose skill plays
         self.count = 0  # getups started
+        self.last: np.ndarray | None = None  # the last targets (rad, league order) a getup played
+        names = nao.joint_names(robot_type)
+        self._ankles = np.array([names.index(n) for n in ANKLE_PITCH])
 
     @property
     def busy(self) -> bool:
@@ -156,6 +167,7 @@ class Getup:
     def reset(self) -> None:
         self.detector.reset()
         self.active = None
+        self.last = None
 
     def step(self, time: float, joints: np.ndarray, accel: np.ndarray, gyro: np.ndarray) -> np.ndarray | None:
         """Targets (rad) of the playing getup at `time` (s), or None when none plays."""
@@ -168,4 +180,18 @@ class Getup:
             self.count += 1
         if self.active is None:
             return None
-        return self.players[self.active].step(time, joints)
+        self.last = self.players[self.active].step(time, joints)
+        return self.last
+
+    def hold(self) -> np.ndarray | None:
+        """Targets (rad, league order) that hold the last getup's end pose while the robot
+        stands up from it: the pose as played, the ankle pitches turned against the
+        torso's fore-aft lean (`HOLD_ANKLE_GAIN`; the lean from `detector`'s filtered
+        accelerometer, so call `step` every cycle); None before any getup has played."""
+        if self.last is None:
+            return None
+        a = self.detector.accel
+        lean = math.atan2(a[0], a[2])  # rad, + leaning back (gravity's reaction toward torso +x)
+        out = self.last.copy()
+        out[self._ankles] += float(np.clip(HOLD_ANKLE_GAIN * lean, -HOLD_ANKLE_MAX, HOLD_ANKLE_MAX))
+        return out

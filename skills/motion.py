@@ -76,8 +76,8 @@ class Motion:
         upright and free for the walk (which restarts from standing after a getup).
         The getups play with UT's joint gains and no feed-forward (they were
         tuned so; with the walk's stiffer gains most fail), then their last pose
-        holds `HOLD_AFTER_GETUP` s before the walk's stand takes over for
-        `SETTLE_AFTER_GETUP` s.
+        holds `HOLD_AFTER_GETUP` s (`Getup.hold`: the ankles balance the torso's
+        lean) before the walk's stand takes over for `SETTLE_AFTER_GETUP` s.
         """
         target = self.getup.step(percept.time, percept.joints, percept.accel, percept.gyro)
         if target is None and (self.tilt.fallen or (self._recovering and self.getup.detector.fallen)):
@@ -95,7 +95,8 @@ class Motion:
             return self.command(target, percept)
         if self._recovering:
             if percept.time < self._hold_until and self._getup_pose is not None:
-                return self.command(self._getup_pose, percept)
+                hold = self.getup.hold()  # the end pose, balanced (step above read the lean)
+                return self.command(self._getup_pose if hold is None else hold, percept)
             # Up: the walk's gains again, and its stand before walking.
             self._recovering = False
             self._getup_pose = None
