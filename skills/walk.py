@@ -100,6 +100,8 @@ class WalkParams:
     swing_ankle_offset: float = -0.0873
     pid_tilt: float = 0.15
     pid_roll: float = 0.2
+    # UT's CoM and arm-y balance gains: read so that UT-style files load, not used by
+    # this engine (its CoM feedback is the step factor above; its arms swing by pid_arm_x).
     pid_com_x: float = 1.0
     pid_com_y: float = 1.0
     pid_com_z: float = 0.0
