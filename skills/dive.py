@@ -211,6 +211,7 @@ class Dive:
         if self._sitting >= self.sit_time - 1e-9:
             self._lying_back = True
             self.lie_back.reset()
+            self.getup.last = None  # lying back, the last getup's end pose no longer holds
         hold = self.getup.hold()  # the getup's end pose, balanced
         if hold is not None:
             self._target = hold
