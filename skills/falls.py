@@ -155,7 +155,9 @@ class Getup:
         self.detector = detector or FallDetector()
         self.active = None  # the side whose skill plays
         self.count = 0  # getups started
-        self.last: np.ndarray | None = None  # the last targets (rad, league order) a getup played
+        # The last targets (rad, league order) a getup played; None (also set by a caller
+        # whose recovery is over) stops `hold`.
+        self.last: np.ndarray | None = None
         names = nao.joint_names(robot_type)
         self._ankles = np.array([names.index(n) for n in ANKLE_PITCH])
 

@@ -100,6 +100,7 @@ class Motion:
             # Up: the walk's gains again, and its stand before walking.
             self._recovering = False
             self._getup_pose = None
+            self.getup.last = None  # a later recovery holds its own getup's pose, not this one
             self.skill_gains(None)
             self.pid.reset()
             self._prev_target = None
