@@ -170,6 +170,19 @@ def test_kick_moves_the_ball_in_physics(kicks0, name, min_distance, tol_deg):
     assert math.degrees(r["error"]) < tol_deg, r
 
 
+def test_the_45_out_kick_keeps_its_direction_anywhere_in_its_box(kicks0):
+    """The 45 deg outward kick meets the ball with the flat outer side of the foot, so the
+    ball leaves along the face's normal wherever the face meets it: with the ball at the
+    box's four corners and its center, every kick goes within 7 deg of the kick's
+    direction, at least 2 m. (The toe-corner swing it replaced sent balls 5 mm apart
+    8 deg and -19 deg off.)"""
+    kick = kicks0["ik_45_out_left"]
+    tx, ty = kick.spec.tolerance[:2]
+    for off in ((0.0, 0.0), (-tx, -ty), (-tx, ty), (tx, -ty), (tx, ty)):
+        r = kick_trial(0, kick, off)
+        assert not r["fell"], (off, r)
+        assert math.degrees(r["error"]) < 7.0 and r["distance"] >= 2.0, (off, r)
+
 
 @pytest.mark.parametrize("robot_type", range(5))
 def test_the_backswing_clears_the_ball_before_the_strike(robot_type):
@@ -189,10 +202,9 @@ def test_the_backswing_clears_the_ball_before_the_strike(robot_type):
 @pytest.mark.parametrize("robot_type", range(5))
 def test_the_45_out_backswing_clears_the_ball_anywhere_in_its_box(robot_type):
     """Kinematics: the 45 deg outward kick's lift passes the ball by at least 1 mm wherever
-    in its tolerance box the approach leaves it. With the ball 10 mm nearer (the offset it
-    was learned at; 15 for type 4) it touched it in the box's near half (-5 mm), and kicks
-    started there pushed the ball away before the swing (3 of 20 of type 3's standing right
-    kicks went 0.5 m); a ball 10 mm nearer than the box's edge is still touched."""
+    in its tolerance box the approach leaves it (a lift that touched the ball pushed it
+    away before the swing: 3 of 20 of type 3's standing right kicks went 0.5 m with an
+    earlier swing); a ball 20 mm nearer than the box's edge is touched."""
     from benchmarks.ikkick import backswing_clearance
 
     kicks = ik_kicks(robot_type)
@@ -204,4 +216,4 @@ def test_the_45_out_backswing_clears_the_ball_anywhere_in_its_box(robot_type):
                 clear, s = backswing_clearance(kick, (bx + dx, by + dy))
                 where = f"type {robot_type} {name}, ball off by ({dx}, {dy}) m"
                 assert clear >= 0.001, f"{where}: {1000 * clear:.1f} mm at s={s:.2f}"
-        assert backswing_clearance(kick, (bx - 0.01 - tx, by))[0] < 0.0  # the check sees a touch
+        assert backswing_clearance(kick, (bx - 0.02 - tx, by))[0] < 0.0  # the check sees a touch
