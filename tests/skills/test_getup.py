@@ -154,23 +154,27 @@ def test_gets_up(robot_type, lying):
     assert max(up) < 3.0
 
 
-@pytest.mark.parametrize("k", [23, 67, 78])
-def test_the_hold_brings_a_getup_ended_on_its_heels_down_onto_its_soles(k, monkeypatch):
-    """Type 2 from its back, benchmark starts (`benchmarks.getup.attempt`) whose getup
-    ends tipped back 26 deg on its heels: holding the end pose as played it stays there
-    (up z about 0.89, just under the benchmark's 0.9); the hold's ankles bring it down
-    onto its soles (found among 120 seeded starts: 5 such, all 5 stand with the hold)."""
-    from benchmarks import getup as bench
+def test_the_hold_turns_the_ankles_against_the_torsos_lean():
+    """While a getup's end pose holds, the ankle pitches turn by HOLD_ANKLE_GAIN per rad of
+    fore-aft lean (from the filtered accelerometer), at most HOLD_ANKLE_MAX; every other
+    joint keeps the end pose. (It was made for type 2's back getup ending tipped back
+    26 deg on its heels, 5 of 120 seeded starts, while the motors chattered at their force
+    limit; with the armature of models/robot.py none of 450 starts of types 0, 2 and 4
+    ended so, so the case is built here from the filter's reading.)"""
+    from skills import falls
 
-    world = World(Lineup((2,), ()))
-    monkeypatch.setattr("skills.falls.HOLD_ANKLE_GAIN", 0.0)
-    assert bench.attempt(world, 2, "back", np.random.default_rng([7, k]), 3.0, Getup(2)) is None
-    up = world.torso_up()[0]
-    assert 0.85 < up < 0.9, f"without the hold's ankles the start {k} ended at up z {up:.3f}"
-    monkeypatch.undo()
-    took = bench.attempt(world, 2, "back", np.random.default_rng([7, k]), 3.0, Getup(2))
-    assert took is not None and took < 3.0
-    assert world.torso_up()[0] > 0.98
+    g = Getup(2)
+    assert g.hold() is None  # no getup has played yet
+    pose = np.linspace(-0.5, 0.5, len(nao.joint_names(2)))
+    g.last = pose.copy()
+    ankles = [nao.joint_names(2).index(n) for n in falls.ANKLE_PITCH]
+    others = np.setdiff1d(np.arange(len(pose)), ankles)
+    for lean, turn in ((0.0, 0.0), (0.2, falls.HOLD_ANKLE_GAIN * 0.2), (1.0, -falls.HOLD_ANKLE_MAX),
+                       (-1.0, falls.HOLD_ANKLE_MAX)):
+        g.detector.accel = falls.GRAVITY * np.array([math.sin(lean), 0.0, math.cos(lean)])
+        out = g.hold()
+        assert np.allclose(out[ankles], pose[ankles] + turn), (lean, out[ankles] - pose[ankles])
+        assert np.array_equal(out[others], pose[others])
 
 
 def recover_as_in_a_match(robot_type: int, seed: int, seconds: float = 4.0,
