@@ -53,11 +53,11 @@ ALIGN_SCHEMA = {"shift_time": "s", "swing_time": "s", "land_time": "s", "unshift
 class AlignParams:
     """Timing and geometry of the two steps (SI: s, m, rad)."""
 
-    shift_time: float = 0.7  # s: torso over the support foot
-    swing_time: float = 1.0  # s: the free foot to its new spot
-    land_time: float = 0.2  # s: both feet down before the torso moves back
-    unshift_time: float = 0.5  # s: torso back between the feet
-    settle_time: float = 0.2  # s: the stand held at the end
+    shift_time: float = 0.56  # s: torso over the support foot
+    swing_time: float = 0.8  # s: the free foot to its new spot
+    land_time: float = 0.16  # s: both feet down before the torso moves back
+    unshift_time: float = 0.4  # s: torso back between the feet
+    settle_time: float = 0.16  # s: the stand held at the end
     lift: float = 0.011  # m: sole height at the middle of a swing
     shift: float = 0.05  # m: torso beyond the middle of the stand spots, toward the support foot
     max_move: float = 0.06  # m: largest move along x or y `Align` takes on
