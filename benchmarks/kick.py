@@ -22,6 +22,13 @@ Prints the machine, then one JSON line per kick, robot type and mode.
 
     python -m benchmarks.kick [--types 0] [--kicks kick_left ik_forward_left] [--tries 20]
                               [--modes standing walking] [--seed 0]
+                              [--params FILE ...] [--approach-params FILE ...]
+
+`--params` loads keyframe kick parameter files after the shipped ones (e.g. the
+`best.txt` or `mean.txt` of a `long_kick` or `kick_distance` job), and
+`--approach-params` ball-approach files (an `approach` job's), as
+`benchmarks.walk --params` does for the walk: a result is benchmarked without
+swapping the shipped files. Each row names the files it ran with.
 """
 
 from __future__ import annotations
@@ -37,6 +44,7 @@ from tqdm import tqdm
 from benchmarks.machine import machine
 from benchmarks.stats import rate_ci
 from optimization.kick import kick_trial
+from skills.approach import ApproachParams
 from skills.kicks import KickSkill, all_kicks
 
 OUTCOMES = ("success", "timeout", "approach_fall", "kick_fall", "short")
@@ -55,13 +63,14 @@ def outcome(row: dict) -> str:
 
 
 def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: int,
-               progress: tqdm | None = None) -> dict:
-    """Aggregate of `tries` kicks (one JSON row)."""
+               progress: tqdm | None = None, approach: ApproachParams | None = None) -> dict:
+    """Aggregate of `tries` kicks (one JSON row); approach: the ball approach's parameters
+    (default: the type's shipped ones)."""
     rng = np.random.default_rng([seed, robot_type, sum(map(ord, kick.spec.name)), len(mode)])
     rows = []
     wall = time.perf_counter()
     for i in range(tries):
-        rows.append(kick_trial(robot_type, kick, mode, rng, seed * 1000 + i))
+        rows.append(kick_trial(robot_type, kick, mode, rng, seed * 1000 + i, approach=approach))
         if progress is not None:
             progress.update()
     dist = np.array([r["distance"] for r in rows])
@@ -92,21 +101,32 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--modes", nargs="+", default=["standing", "walking"], choices=("standing", "walking"))
     ap.add_argument("--tries", type=int, default=20)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
+                    help="keyframe kick parameter files loaded after the shipped ones "
+                         "(e.g. a CMA-ES best.txt)")
+    ap.add_argument("--approach-params", nargs="+", default=[], metavar="FILE",
+                    help="ball approach parameter files loaded after the shipped ones")
     args = ap.parse_args(argv)
     if args.tries < 1:
         ap.error(f"--tries must be at least 1, not {args.tries}")
-    print(json.dumps({"machine": machine()}), flush=True)
     jobs = []
     for t in args.types:
-        kicks = all_kicks(t)
+        try:  # a bad file fails here, with file:line
+            kicks = all_kicks(t, keyframe_params=args.params)
+            approach = ApproachParams.load(args.approach_params, robot_type=t)
+        except (OSError, ValueError) as err:
+            ap.error(str(err))
         names = args.kicks or list(kicks)
         unknown = [n for n in names if n not in kicks]
         if unknown:
             ap.error(f"unknown kick(s) {', '.join(unknown)}; known: {', '.join(kicks)}")
-        jobs += [(t, kicks[n], m) for n in names for m in args.modes]
+        jobs += [(t, kicks[n], m, approach) for n in names for m in args.modes]
+    files = {"params": args.params, "approach_params": args.approach_params}
+    print(json.dumps({"machine": machine()}), flush=True)
     with tqdm(total=len(jobs) * args.tries, desc="kicks", unit="kick", file=sys.stderr) as bar:
-        for t, kick, mode in jobs:
-            print(json.dumps(kick_stats(t, kick, mode, args.tries, args.seed, bar)), flush=True)
+        for t, kick, mode, approach in jobs:
+            row = kick_stats(t, kick, mode, args.tries, args.seed, bar, approach)
+            print(json.dumps({**row, **files}), flush=True)
     return 0
 
 

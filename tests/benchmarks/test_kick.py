@@ -1,5 +1,7 @@
 """The kick benchmark's rows (benchmarks/kick.py)."""
 
+import json
+
 import pytest
 
 import benchmarks.kick as bench
@@ -53,3 +55,27 @@ def test_bad_options_are_refused(capsys):
         main(["--kicks", "no_such_kick", "--tries", "1"])
     assert e.value.code == 2
     assert "unknown kick" in capsys.readouterr().err
+
+
+def test_parameter_files_are_loaded_after_the_shipped_ones(tmp_path, capsys):
+    """A CMA-ES result is benchmarked without swapping the shipped files; the row names it."""
+    kicks = tmp_path / "best.txt"
+    kicks.write_text("# a kick_distance job's best\nkick_distance\t9.9\n")
+    approach = tmp_path / "approach.txt"
+    approach.write_text("approach_near\t0.3\n")
+    assert main(["--kicks", "kick_left", "--modes", "standing", "--tries", "1",
+                 "--params", str(kicks), "--approach-params", str(approach)]) == 0
+    rows = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    row = rows[-1]
+    assert row["kick"] == "kick_left" and row["nominal_distance_m"] == 9.9
+    assert row["params"] == [str(kicks)] and row["approach_params"] == [str(approach)]
+    assert all_kicks(0)["kick_left"].spec.distance != 9.9  # the shipped value is left alone
+
+
+def test_a_bad_parameter_file_names_its_line(tmp_path, capsys):
+    bad = tmp_path / "best.txt"
+    bad.write_text("long_kick_k4_hip\t70\nlong_kick_no_such\t3\n")
+    with pytest.raises(SystemExit) as e:
+        main(["--params", str(bad), "--tries", "1"])
+    assert e.value.code == 2
+    assert f"{bad}:2" in capsys.readouterr().err
