@@ -23,8 +23,7 @@ from collections.abc import Callable, Sequence
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 
-from optimization.paramvec import Values
-from optimization.task import Task, TrialResult
+from optimization.types import Task, TrialResult, Values
 
 log = logging.getLogger("optimization")
 RETRIES = 1  # extra attempts after a failure

@@ -29,7 +29,6 @@ import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -37,6 +36,7 @@ from models import nao
 from models.messages import Action
 from models.rules import CYCLE
 from models.scene import Lineup
+from optimization.types import ParamSetDef, ParamSpec, TrialResult, Values
 from server.trainer import Trainer
 from skills.control import JointPid
 from skills.falls import GETUP_FILES, Getup, getup_param_paths
@@ -44,10 +44,6 @@ from skills.motion import Motion
 from skills.params import UNITS, load_params
 from skills.skill import Skill, read_skills, skill_path
 from skills.walk import WalkEngine
-
-if TYPE_CHECKING:  # optimization.paramvec and .task import this module: no cycle at run time
-    from optimization.paramvec import ParamSetDef, Values
-    from optimization.task import TrialResult
 
 UP_MIN = 0.9  # torso up-vector z above this counts as upright (ground truth)
 HEIGHT_FRACTION = 0.8  # torso height above this fraction of the standing height counts as standing
@@ -102,8 +98,6 @@ def getup_schema() -> dict[str, str]:
 def getup_param_set(set_name: str) -> ParamSetDef:
     """The "getup_front" or "getup_back" parameter set: prefix ``front_``/``back_``,
     every parameter of that skill optimized with a sigma by its slot."""
-    from optimization.paramvec import ParamSetDef, ParamSpec
-
     prefix = SIDES[set_name][1]
     schema = {n[len(prefix):]: u for n, u in getup_schema().items() if n.startswith(prefix)}
     specs = []
@@ -197,8 +191,6 @@ class GetupTask:
         return -self.seconds - self.fail_penalty
 
     def trial(self, values: Values, seed: int) -> TrialResult:
-        from optimization.task import TrialResult
-
         rng = np.random.default_rng(seed)
         robot_type = int(rng.integers(5)) if self.all_types else self.robot_type
         lying = SIDES[self.name][0]

@@ -45,8 +45,8 @@ import cma
 import numpy as np
 
 from optimization.executor import Evaluator, ExecutorFactory, TrialRequest
-from optimization.paramvec import ParamSpace, Values, atomic_write_bytes, atomic_write_text, write_param_file
-from optimization.task import Task
+from optimization.paramvec import ParamSpace, atomic_write_bytes, atomic_write_text, write_param_file
+from optimization.types import Task, Values
 
 CHECKPOINT = "checkpoint.pkl"
 HISTORY = "history.csv"

@@ -58,6 +58,7 @@ from agent.kicker import DONE, KICK, Kicker
 from models.messages import Action
 from models.scene import Lineup
 from optimization.phases import FALL_PENALTY, WalkAgent
+from optimization.types import ParamSetDef, ParamSpec, TrialResult, Values
 from server.trainer import Trainer
 from skills.approach import APPROACH_SCHEMA, ApproachParams, approach_param_paths, kick_pose
 from skills.kick import (
@@ -74,9 +75,7 @@ from skills.kicks import KickSkill, all_kicks
 from skills.params import UNITS
 from skills.skill import read_skills, skill_path
 
-if TYPE_CHECKING:  # optimization.paramvec and .task import this module
-    from optimization.paramvec import ParamSetDef, Values
-    from optimization.task import TrialResult
+if TYPE_CHECKING:
     from server.world import World
 
 BALL = (-5.0, 0.0)  # m, field frame: where the ball starts
@@ -175,8 +174,6 @@ _OWN_BOUNDS = {"k3b_wait": (0.0, 1.5)}
 def kick_param_set(set_name: str) -> ParamSetDef:
     """A keyframe kick's parameter set (prefix ``<set>_``): the skill's ``$parameters``
     and the ball offset, with sigma and bounds by unit; it inherits the ``kick`` set."""
-    from optimization.paramvec import ParamSetDef, ParamSpec
-
     schema = kick_schema()
     specs = []
     for n, u in schema.items():
@@ -233,8 +230,6 @@ APPROACH_CAP = 4.0  # m of progress toward the target that an approach trial cou
 def approach_param_set() -> ParamSetDef:
     """The ball approach's parameter set ``approach`` (prefix ``approach_``, the walk set
     approach_to_kick shares the prefix with disjoint names)."""
-    from optimization.paramvec import ParamSetDef, ParamSpec
-
     specs = tuple(ParamSpec(n, *APPROACH_SPECS[n]) for n in APPROACH_SCHEMA)
     return ParamSetDef(name="approach", prefix="approach_", schema=APPROACH_SCHEMA, specs=specs,
                        defaults=lambda robot_type: [str(p) for p in approach_param_paths(robot_type)])
@@ -290,8 +285,6 @@ class KickTask:
         return -self.fall - 2.0 * self.distance - 10.0
 
     def trial(self, values: Values, seed: int) -> TrialResult:
-        from optimization.task import TrialResult
-
         rng = np.random.default_rng(seed)
         foot = "lr"[int(rng.integers(2))] if self.feet == 2 else "l"
         kick = keyframe_kick(values, self.set, self.robot_type, foot)
@@ -349,8 +342,6 @@ class ApproachTask:
         return f"{self.kick}_{('left', 'right')[int(rng.integers(2))]}"
 
     def trial(self, values: Values, seed: int) -> TrialResult:
-        from optimization.task import TrialResult
-
         rng = np.random.default_rng(seed)
         name = self.draw_kick(rng)
         kick = copy.deepcopy(_shipped_kicks(self.robot_type)[name])  # fresh state

@@ -20,60 +20,17 @@ set's loader reads (for walk sets, `skills.walk.load_walk_sets`).
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
+from optimization.getup import getup_param_set
+from optimization.kick import approach_param_set, kick_param_set, shipped_kick_sets
+from optimization.types import ParamSetDef, ParamSpec, Values
 from server.files import write_bytes
-from skills.params import UNITS, ParamError, PathLike, read_entries
+from skills.params import ParamError, PathLike, read_entries
 from skills.walk import WALK_SCHEMA, WALK_SETS, default_param_files
-
-Values = dict[str, dict[str, float]]  # set name -> parameter name -> value (file units)
-
-
-@dataclass(frozen=True)
-class ParamSpec:
-    """One optimizable parameter: initial standard deviation and bounds (file units)."""
-
-    name: str
-    sigma: float
-    lower: float = -math.inf
-    upper: float = math.inf
-
-
-@dataclass(frozen=True)
-class ParamSetDef:
-    """A named parameter set as parameter files hold it.
-
-    prefix: what the set's names carry in a file (``sprint_``); inherit: a set
-    whose values this one starts from when the files do not name it (walk sets
-    with a prefix start from go-to-target's); defaults: the shipped parameter
-    files for a robot type; specs: the parameters optimized unless a task file
-    names others.
-    """
-
-    name: str
-    prefix: str
-    schema: Mapping[str, str]
-    specs: tuple[ParamSpec, ...]
-    defaults: Callable[[int], list[PathLike]] | None = None
-    inherit: str | None = None
-    start: Mapping[str, float] = field(default_factory=dict)  # built-in values under the files
-
-    def spec(self, name: str) -> ParamSpec:
-        for s in self.specs:
-            if s.name == name:
-                return s
-        if name not in self.schema:
-            raise KeyError(f"set {self.name} has no parameter {name!r}")
-        raise KeyError(f"parameter {name!r} of set {self.name} has no optimization spec (sigma, bounds)")
-
-    def to_si(self, values: Mapping[str, float]) -> dict[str, float]:
-        """File units -> SI."""
-        return {n: v * UNITS[self.schema[n]] for n, v in values.items()}
-
 
 # Walk parameters CMA-ES tunes (27, as UT's Table 8.2 set), sigma and bounds in file units
 # (mm, rad, s, 1). The bounds keep the engine valid (fractions in (0, 1], a leg that reaches).
@@ -125,18 +82,12 @@ PARAM_SETS["analytic"] = ParamSetDef(
 
 
 # The getup skills' sets, "getup_front" (front_*) and "getup_back" (back_*): optimization.getup.
-from optimization.getup import getup_param_set  # noqa: E402
-
 PARAM_SETS.update({n: getup_param_set(n) for n in ("getup_front", "getup_back")})
 
 # The keyframe kick sets of the shipped kick files ("kick", "long_kick", "kick_5m", ...):
 # optimization.kick.
-from optimization.kick import kick_param_set, shipped_kick_sets  # noqa: E402
-
 PARAM_SETS.update({n: kick_param_set(n) for n in shipped_kick_sets()})
 # The ball approach's set "approach" (approach_*, skills/data/approach.params): optimization.kick.
-from optimization.kick import approach_param_set  # noqa: E402
-
 PARAM_SETS["approach"] = approach_param_set()
 
 

@@ -50,13 +50,12 @@ import math
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from typing import Protocol
 
 import numpy as np
 
 from optimization.getup import getup_back, getup_front
 from optimization.kick import approach, kick_distance, kick_walking, long_kick
-from optimization.paramvec import ANALYTIC_NAMES, Values, param_set
+from optimization.paramvec import ANALYTIC_NAMES, param_set
 from optimization.phases import (
     FALL_PENALTY,
     GetupRecovery,
@@ -68,24 +67,8 @@ from optimization.phases import (
     new_sim,
     run_phases,
 )
+from optimization.types import Task, TrialResult, Values
 from skills.walk import WALK_SETS, WalkParams
-
-
-@dataclass(frozen=True)
-class TrialResult:
-    """One trial's fitness (higher is better) and what else it measured."""
-
-    fitness: float
-    info: dict = field(default_factory=dict)
-
-
-class Task(Protocol):
-    name: str
-    sets: tuple[str, ...]
-    optimize: Mapping[str, tuple[str, ...] | None]
-    worst: float
-
-    def trial(self, values: Values, seed: int) -> TrialResult: ...
 
 
 def walk_sets(values: Values) -> dict[str, WalkParams]:

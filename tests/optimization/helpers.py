@@ -6,7 +6,8 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from optimization.task import AnalyticTask, TrialResult
+from optimization.task import AnalyticTask
+from optimization.types import TrialResult
 
 
 @dataclass(frozen=True)
