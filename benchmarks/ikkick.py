@@ -36,7 +36,7 @@ from models import nao
 from models.field import BALL_RADIUS
 from models.messages import Action
 from models.robot import robot_mjcf
-from skills.ikkick import IkKick, ik_kicks
+from skills.kicks.ik import IkKick, ik_kicks
 
 CLEARANCE_SAMPLES = 80  # samples of the backswing checked by `backswing_clearance`
 

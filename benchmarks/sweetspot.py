@@ -47,7 +47,7 @@ from tqdm import tqdm
 
 from benchmarks.machine import machine
 from optimization.kick import kick_trial
-from skills.kick import keyframe_kicks
+from skills.kicks.keyframe import keyframe_kicks
 
 SPREAD = (0.002, 0.5)  # m, deg: placement noise (the grid's cells are 10 mm apart)
 BIAS = (0.005, 0.0)  # m: true ball offset less the set's when a walking approach kicks (mean) ...

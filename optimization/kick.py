@@ -61,7 +61,8 @@ from optimization.phases import FALL_PENALTY, WalkAgent
 from optimization.types import ParamSetDef, ParamSpec, TrialResult, Values
 from server.trainer import Trainer
 from skills.approach import APPROACH_SCHEMA, ApproachParams, approach_param_paths, kick_pose
-from skills.kick import (
+from skills.kicks import KickSkill, all_kicks
+from skills.kicks.keyframe import (
     BASE_SET,
     FOOT_NAME,
     KICK_FILE,
@@ -70,8 +71,7 @@ from skills.kick import (
     load_kick_sets,
     make_keyframe_kick,
 )
-from skills.kick import default_param_files as kick_param_files
-from skills.kicks import KickSkill, all_kicks
+from skills.kicks.keyframe import default_param_files as kick_param_files
 from skills.params import UNITS
 from skills.skill import read_skills, skill_path
 

@@ -4,7 +4,7 @@ The walk stops wherever its last step put the feet: a few centimetres and about
 5 deg from where the approach wanted them, at random, however slowly it creeps.
 `Align` moves a standing robot by a small (dx, dy, dturn) with two single steps
 played slowly enough to stay statically balanced, the way the IK kicks stand on
-one leg (`skills.ikkick`). For each foot in turn:
+one leg (`skills.kicks.ik`). For each foot in turn:
 
 1. shift: the torso moves over the other (support) foot, to where an IK kick
    puts it (`shift` m beyond the stand spot's middle, facing as the support foot);
@@ -36,7 +36,7 @@ import numpy as np
 
 from models.messages import Percept
 from skills.ik import LegIK
-from skills.ikkick import ease, stand_stance
+from skills.kicks.ik import ease, stand_stance
 from skills.kinematics import RobotKinematics
 from skills.params import PathLike, load_params
 from skills.walk import WalkEngine

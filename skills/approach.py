@@ -49,7 +49,7 @@ from pathlib import Path
 import numpy as np
 
 from skills.align import AlignParams
-from skills.kicks import KickSpec
+from skills.kicks.spec import KickSpec
 from skills.navigate import walk_toward, wrap
 from skills.params import PathLike, load_params, with_type_file
 from skills.walk import WalkParams

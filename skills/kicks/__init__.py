@@ -1,83 +1,30 @@
-"""What every kick offers the ball approach and the behaviors (dissertation 8.2.7).
+"""The kicks (dissertation 8.2.7): the interface every kick offers and the registry of
+a robot type's shipped kicks.
 
-A kick is a skill that starts with the robot standing still behind the ball
-and ends with the robot standing again. Frames:
+* `skills.kicks.spec`: `KickSpec` (where the ball must lie, where it goes, how far)
+  and the `KickSkill` protocol; the frames are described there;
+* `skills.kicks.keyframe`: keyframe kicks (``kick.skl`` with the sets of ``kick.params``);
+* `skills.kicks.ik`: inverse-kinematics kicks on Hermite splines (``ikkick.params``);
+* here: `all_kicks`, every shipped kick of a robot type by name.
 
-* robot frame: the torso's position projected on the ground, x forward along
-  the torso's heading, y left, z up (m, rad). Where the ball must lie at the
-  start of a kick, and where the kick sends it, are given in it.
-
-`KickSpec` says where the ball must be, in which direction it goes and how far
-it nominally travels; a kick skill (`KickSkill`) turns percepts into joint
-targets until it is `done`. The approach (`skills.approach`) stops the robot
-with the ball at `KickSpec.ball` within `KickSpec.tolerance`, then hands over.
+The kick modules import only `skills.kicks.spec`; this module imports them.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
-from typing import Protocol
 
-import numpy as np
-
-from models.messages import Percept
+from skills.kicks.ik import ik_kicks
+from skills.kicks.keyframe import keyframe_kicks
+from skills.kicks.spec import KickSkill, KickSpec
 from skills.params import PathLike
-
-
-@dataclass(frozen=True)
-class KickSpec:
-    """A kick's standing offset from the ball, its direction and its reach.
-
-    name: unique, e.g. "kick_left", "ik_forward_left", "ik_45_in_right";
-    foot: the kicking foot, "l" or "r";
-    ball: (x, y) m, robot frame: the ball's center when the kick starts;
-    tolerance: (dx m, dy m, dtheta rad): half-widths of the box around `ball`
-        (and around the facing) the approach must stop in;
-    direction: rad, robot frame: where the ball goes (0 straight ahead, + left);
-    distance: m: nominal distance the ball travels on grass (to the stop);
-    duration: s: from the start to the end of the kick (standing again).
-    """
-
-    name: str
-    foot: str
-    ball: tuple[float, float]
-    tolerance: tuple[float, float, float]
-    direction: float = 0.0
-    distance: float = 0.0
-    duration: float = 0.0
-
-
-class KickSkill(Protocol):
-    """One kick, played cycle by cycle from the robot's percepts."""
-
-    spec: KickSpec
-
-    def reset(self, ball: tuple[float, float] | None = None, start: np.ndarray | None = None) -> None:
-        """Start over at the next `step`; `ball` is the agent's estimate of the ball
-        (m, robot frame) when it has one (IK kicks place the foot from it); `start` the
-        joint targets (rad, league order) the robot holds as the kick begins (`Motion.held_target`;
-        keyframe kicks move from them into their base pose)."""
-        ...
-
-    def step(self, percept: Percept) -> np.ndarray:
-        """Joint targets (rad, league order; NaN = hold) for this cycle."""
-        ...
-
-    @property
-    def done(self) -> bool:
-        """True once the kick is over and the robot stands again."""
-        ...
 
 
 def all_kicks(robot_type: int, keyframe_params: Iterable[PathLike] = (),
               ik_params: Iterable[PathLike] = ()) -> dict[str, KickSkill]:
-    """Every shipped kick of a robot type by name: the keyframe kicks (`skills.kick`)
-    and the inverse-kinematics kicks (`skills.ikkick`); parameter files given here
+    """Every shipped kick of a robot type by name: the keyframe kicks (`skills.kicks.keyframe`)
+    and the inverse-kinematics kicks (`skills.kicks.ik`); parameter files given here
     override the shipped values (e.g. a CMA-ES result)."""
-    from skills.ikkick import ik_kicks  # imported here: both modules import this one
-    from skills.kick import keyframe_kicks
-
     kicks: dict[str, KickSkill] = dict(keyframe_kicks(robot_type, keyframe_params))
     for name, kick in ik_kicks(robot_type, ik_params).items():
         if name in kicks:

@@ -49,12 +49,12 @@ from models.messages import Percept
 from models.rules import CYCLE
 from skills.ik import LegIK
 from skills.imu import TiltEstimator
-from skills.kicks import KickSpec
+from skills.kicks.spec import KickSpec
 from skills.kinematics import LEG_JOINTS, RobotKinematics
 from skills.params import PathLike, load_param_sets, with_type_file
 from skills.walk import WalkEngine
 
-DATA = Path(__file__).parent / "data"
+DATA = Path(__file__).parent.parent / "data"  # skills/data/
 PARAMS_FILE = DATA / "ikkick.params"
 MAX_WAYPOINTS = 8
 KINDS: dict[str, str] = {  # kind -> parameter prefix

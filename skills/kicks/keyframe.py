@@ -36,7 +36,7 @@ import numpy as np
 from models.messages import Percept
 from models.rules import CYCLE
 from skills.imu import TiltEstimator
-from skills.kicks import KickSpec
+from skills.kicks.spec import KickSpec
 from skills.params import ParamError, PathLike, convert, read_entries, require, with_type_file
 from skills.skill import Skill, SkillPlayer, SkillSource, read_skills, skill_path
 

@@ -10,7 +10,7 @@ from cli.main import main
 from optimization.kick import KickTask, keyframe_kick, kick_trial
 from optimization.paramvec import PARAM_SETS, ParamSpace, load_values, write_param_file
 from optimization.task import make_task
-from skills.kick import keyframe_kicks
+from skills.kicks.keyframe import keyframe_kicks
 from skills.params import UNITS
 
 
@@ -66,7 +66,7 @@ def test_a_trial_is_reproducible_from_its_seed():
 
 
 def test_a_standing_ik_kick_trial_measures_the_ball():
-    from skills.ikkick import ik_kicks
+    from skills.kicks.ik import ik_kicks
 
     # About 1 standing IK kick in 30 misses the ball (seed 3 does): three trials, two must hit.
     kick = ik_kicks(0)["ik_forward_left"]
@@ -147,7 +147,7 @@ def test_a_robot_types_own_approach_file_overrides_the_shared_values_for_that_ty
 
     import skills.approach as approach
     from agent.kicker import Kicker
-    from skills.ikkick import ik_kicks
+    from skills.kicks.ik import ik_kicks
 
     shutil.copy(approach.DATA / "approach.params", tmp_path / "approach.params")
     (tmp_path / "approach_type2.params").write_text("approach_around\t0.7\t# m\n")

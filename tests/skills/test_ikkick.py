@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from benchmarks.ikkick import kick_trial
-from skills.ikkick import (
+from skills.kicks.ik import (
     KINDS,
     UnreachableKick,
     hermite,

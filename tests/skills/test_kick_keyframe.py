@@ -22,8 +22,14 @@ from models import nao
 from models.messages import Action
 from models.scene import Lineup
 from server.trainer import Trainer
-from skills.kick import KeyframeKick, angle_error, default_param_files, keyframe_kicks, load_kick_sets
 from skills.kicks import KickSpec
+from skills.kicks.keyframe import (
+    KeyframeKick,
+    angle_error,
+    default_param_files,
+    keyframe_kicks,
+    load_kick_sets,
+)
 from skills.motion import Motion
 from skills.params import ParamError
 from skills.skill import read_skills, skill_path
@@ -236,7 +242,7 @@ FIXED_DIRECTION_TOLERANCE = math.radians(10.0)  # rad, the kicks' mean direction
 def test_a_kick_started_at_any_moment_of_the_stands_rocking_does_not_fall(foot):
     # The stand rocks on its feet at about 6.5 Hz; started 0.60-0.75 s after standing
     # (every 10 ms: one whole period), the long kick fell 4 times in 16 per foot until it
-    # learnt to wait for its phase (skills.kick.START_PITCH_RATE).
+    # learnt to wait for its phase (skills.kicks.keyframe.START_PITCH_RATE).
     kick = KeyframeKick.load("long_kick", foot, 0)
     falls = [round(0.6 + 0.01 * i, 2) for i in range(16) if kick_once(kick, 0, hold=0.6 + 0.01 * i).fell]
     assert not falls, falls
@@ -244,7 +250,7 @@ def test_a_kick_started_at_any_moment_of_the_stands_rocking_does_not_fall(foot):
 
 def test_a_kick_waits_at_most_start_wait_for_the_pitch_rate():
     from models.messages import Percept
-    from skills.kick import START_PITCH_RATE, START_WAIT
+    from skills.kicks.keyframe import START_PITCH_RATE, START_WAIT
 
     kick = KeyframeKick.load("kick", "l", 0)
     q = stand_pose(0)
