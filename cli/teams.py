@@ -14,7 +14,12 @@ def _posture() -> Callable:
     return PostureAgent
 
 
-TEAMS: dict[str, Callable[[], Callable]] = {"posture": _posture}
+def _villa() -> Callable:
+    from agent.player import villa
+    return villa
+
+
+TEAMS: dict[str, Callable[[], Callable]] = {"posture": _posture, "villa": _villa}
 
 
 def names() -> list[str]:

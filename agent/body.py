@@ -1,0 +1,205 @@
+"""The body: one skill request a cycle turned into joint velocities.
+
+It owns the robot's `skills.motion.Motion` (walk engine, joint control,
+getups) and plays what the decision layer asks (`agent.requests`): walking to
+a pose, dribbling, standing, a goalie dive, and kicks through
+`agent.kicker.Kicker` (approach, align and the kick of least cost). A skill
+that has begun (a kick, an align, a dive, a getup) finishes before another
+request takes the body. Poses come from the world model (team frame, m, rad).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from agent.geometry import wrap
+from agent.head import HeadController
+from agent.kicker import ALIGN, DONE, KICK, LEAN, Kicker
+from agent.requests import Dive, Dribble, Kick, SkillRequest, Stand, WalkTo
+from agent.worldmodel import WorldModel
+from models.messages import Percept
+from models.rules import CYCLE
+from skills.dive import Dive as DiveSkill
+from skills.imu import TiltEstimator
+from skills.kicks import all_kicks
+from skills.navigate import walk_toward
+
+STOP_DISTANCE = 0.08  # m from a WalkTo target where the robot stands
+STOP_TURN = math.radians(12.0)  # rad of heading error left when it stands
+DRIBBLE_BEHIND = 0.25  # m behind the ball where a dribble lines up
+DRIBBLE_LANE = 0.1  # m either side of the ball's line: pushing on
+DRIBBLE_FACING = math.radians(25.0)  # rad of heading error while pushing on
+DRIBBLE_REACH = 0.6  # m from the ball: farther, line up again
+BALL_ROUND = 0.5  # m: go round the ball this far when it is in the way of lining up
+
+
+class Body:
+    """Skills of one robot behind the requests of `agent.requests`."""
+
+    def __init__(self, robot_type: int) -> None:
+        self.robot_type = robot_type
+        self.kicks = all_kicks(robot_type)
+        self.kicker = Kicker(robot_type, self.kicks)
+        self.motion = self.kicker.motion
+        self.tilt = TiltEstimator()
+        self.head = HeadController()
+        self.kicking = False  # the kicker has the body
+        self.dive: DiveSkill | None = None
+        self.odometry = (0.0, 0.0, 0.0)  # the walk's (dx, dy, dtheta) in the last cycle (torso frame)
+        self.kicks_started = 0  # kicks begun (the kicker left its approach for a kick)
+        self._recovering = False
+        self._kick_state = None
+
+    @property
+    def busy(self) -> bool:
+        """A kick, an align, a dive or a getup holds the body."""
+        return self.dive is not None or (self.kicking and (self.kicker.state in (KICK, ALIGN)
+                                                           or self.motion.recovering))
+
+    @property
+    def down(self) -> bool:
+        """Lying or getting up."""
+        return self._recovering or self.motion.recovering
+
+    def beamed(self) -> None:
+        """The robot was moved by a beam: start the walk from standing."""
+        self._leave_kicker()
+        self.motion.reset()
+
+    def execute(self, request: SkillRequest, percept: Percept, world: WorldModel) -> np.ndarray:
+        """Joint velocities (rad/s, league order) for this cycle."""
+        self.tilt.update(percept.gyro, percept.accel, CYCLE)
+        before = self.motion.last
+        v = self._execute(request, percept, world)
+        after = self.motion.last
+        self.odometry = after.odometry if after is not None and after is not before else (0.0, 0.0, 0.0)
+        if self.kicking:
+            if self.kicker.state == KICK and self._kick_state != KICK:
+                self.kicks_started += 1
+            self._kick_state = self.kicker.state
+        return v
+
+    # ------------------------------------------------------------------ dispatch
+
+    def _execute(self, req: SkillRequest, percept: Percept, world: WorldModel) -> np.ndarray:
+        if self.dive is not None:
+            v = self.dive.step(percept)
+            if self.dive.done:
+                self.dive.release()
+                self.dive = None
+                self.motion.reset()
+            return v
+        if isinstance(req, Dive) and not self.busy and not self.down:
+            self._leave_kicker()
+            self.dive = DiveSkill(self.robot_type, req.name, motion=self.motion)
+            return self.dive.step(percept)
+        if self.kicking:
+            if isinstance(req, Kick) or self.busy:
+                return self._kick(req, percept, world)
+            self._leave_kicker()
+        elif isinstance(req, Kick) and not self.down and self._may_stop():
+            self._start_kick(req, world)
+            return self._kick(req, percept, world)
+        leaning = max(abs(self.tilt.pitch), abs(self.tilt.roll)) > LEAN
+        if leaning or self._recovering or self.motion.recovering:
+            v = self.motion.recover(percept)
+            self._recovering = v is not None
+            if v is not None:
+                return v
+        if isinstance(req, Kick):  # waiting for a step to end before the kicker starts
+            bx, by = world.ball_filter.position
+            return self._walk_to(percept, world, bx, by, None)
+        if isinstance(req, WalkTo):
+            return self._walk_to(percept, world, req.x, req.y, req.heading, req.set_name)
+        if isinstance(req, Dribble):
+            return self._dribble(req, percept, world)
+        heading = req.heading if isinstance(req, Stand) else None
+        return self._stand(percept, world, heading)
+
+    # --------------------------------------------------------------------- kicks
+
+    def _may_stop(self) -> bool:
+        walk = self.motion.walk
+        return not walk.walking or walk.step_begins()
+
+    def _start_kick(self, req: Kick, world: WorldModel) -> None:
+        self.kicker.kicks = {n: self.kicks[n] for n in req.kicks}
+        self.kicker.start(tuple(float(v) for v in world.pose), req.target)
+        if world.ball_filter.initialized:
+            self.kicker.ball.position = world.ball_filter.position
+            self.kicker.ball.seen_at = world.ball.last_seen
+        self.kicking = True
+        self._kick_state = self.kicker.state
+
+    def _kick(self, req: SkillRequest, percept: Percept, world: WorldModel) -> np.ndarray:
+        k = self.kicker
+        if isinstance(req, Kick) and k.state not in (KICK, ALIGN):
+            if k.state == DONE:  # the last kick is over: a new one from where the robot stands
+                self._start_kick(req, world)
+            else:
+                k.target = (float(req.target[0]), float(req.target[1]))
+                if set(req.kicks) != set(k.kicks):
+                    k.kicks = {n: self.kicks[n] for n in req.kicks}
+        return k.act(percept)
+
+    def _leave_kicker(self) -> None:
+        if not self.kicking:
+            return
+        self.kicking = False
+        self.motion.skill_gains(None)
+        if self.kicker.state == DONE:  # it holds the kick's last pose: walk from the stand
+            self.motion.reset()
+
+    # --------------------------------------------------------------------- walks
+
+    def _walk(self, percept: Percept, world: WorldModel, x: float, y: float, turn: float,
+              set_name: str = "go_to_target") -> np.ndarray:
+        self.motion.skill_gains(None)
+        v = self.motion.walk_step(percept, x, y, turn, set_name)
+        rel = world.ball_relative() if world.ball.valid else None
+        bearing, dist = rel if rel is not None else (None, None)
+        v[0:2] = self.head.velocities(percept.time, percept.joints, bearing, dist)
+        return v
+
+    def _walk_to(self, percept: Percept, world: WorldModel, tx: float, ty: float,
+                 heading: float | None, set_name: str = "go_to_target") -> np.ndarray:
+        x, y, h = world.pose
+        c, s = math.cos(h), math.sin(h)
+        dx, dy = c * (tx - x) + s * (ty - y), -s * (tx - x) + c * (ty - y)
+        dheading = None if heading is None else wrap(heading - h)
+        if math.hypot(dx, dy) < STOP_DISTANCE and (dheading is None or abs(dheading) < STOP_TURN):
+            return self._walk(percept, world, 0.0, 0.0, 0.0, set_name)
+        params = self.motion.walk.sets[set_name]
+        return self._walk(percept, world, *walk_toward(dx, dy, dheading, params), set_name)
+
+    def _stand(self, percept: Percept, world: WorldModel, heading: float | None) -> np.ndarray:
+        x, y, _ = world.pose
+        return self._walk_to(percept, world, x, y, heading)
+
+    def _dribble(self, req: Dribble, percept: Percept, world: WorldModel) -> np.ndarray:
+        """Line up behind the ball facing the target, then walk through it (D.1.6)."""
+        if not world.ball_filter.initialized:
+            return self._stand(percept, world, None)
+        ball = world.ball_filter.position
+        me = np.asarray(world.pose[:2], dtype=float)
+        h = float(world.pose[2])
+        d = np.asarray(req.target, dtype=float) - ball
+        u = d / max(float(np.hypot(*d)), 1e-6)
+        along = float((me - ball) @ u)  # < 0: behind the ball
+        across = float(u[0] * (me - ball)[1] - u[1] * (me - ball)[0])
+        facing = abs(wrap(math.atan2(u[1], u[0]) - h))
+        if (along < -0.05 and abs(across) < DRIBBLE_LANE and facing < DRIBBLE_FACING
+                and float(np.hypot(*(me - ball))) < DRIBBLE_REACH):
+            aim = ball + 0.8 * u - 0.5 * across * np.array([-u[1], u[0]])
+            return self._walk_to(percept, world, float(aim[0]), float(aim[1]), None, "go_to_target")
+        stage = ball - DRIBBLE_BEHIND * u
+        if along > -0.15 and abs(across) < BALL_ROUND:  # beside or in front: round the ball first
+            side = 1.0 if across >= 0 else -1.0
+            stage = ball + BALL_ROUND * side * np.array([-u[1], u[0]]) - 0.2 * u
+        heading = math.atan2(u[1], u[0]) if float(np.hypot(*(me - stage))) < 0.5 else None
+        return self._walk_to(percept, world, float(stage[0]), float(stage[1]), heading)
+
+
+__all__ = ["Body"]

@@ -1,0 +1,360 @@
+"""The team decision: pure functions of one player's picture of the world.
+
+Everything here takes a `TeamView` (a snapshot of the world model: own pose,
+ball, teammates and opponents as this player knows them) and returns plain
+values, so it is tested without physics. All positions are in the team frame
+(own goal at -x; m), headings in rad. Sections refer to MacAlpine's
+dissertation (appendix D) and "Positioning to Win" (PtW).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from agent.geometry import wrap
+from formations.delaunay import Formation
+from formations.scram import assign_costs
+from models import field as fld
+from models.rules import FREE_KICK_DISTANCE, PlayMode
+
+GOALIE = 1  # the only shirt number with a role of its own
+# The field roles in priority order: with k field players the first k are filled.
+# The team's vote is a permutation of these ten over the shirt numbers 2..11.
+FIELD_ROLES = ("onBall", "supporter", "forwardLeft", "forwardRight", "midLeft", "midRight",
+               "backLeft", "backRight", "wingLeft", "wingRight")
+FIELD_UNUMS = tuple(range(2, 12))
+OPP_GOAL = np.array([fld.HALF_LENGTH, 0.0])
+OWN_GOAL = np.array([-fld.HALF_LENGTH, 0.0])
+FRONT_PENALTY = 1.0  # m added to the closeness of a player in front of the ball (D.1.1)
+FALLEN_PENALTY = 1.5  # m added for a fallen player ... (D.1.1)
+FALLEN_NEAR = 0.65  # m ... unless it lies this close to the ball
+TURN_COST = 0.5  # m of walking a half turn costs in the role assignment
+PROXIMITY, COLLISION = 1.25, 0.5  # m, D.1.2 thresholds round other players
+FACE_BALL_WITHIN = 0.5  # m from a position: face the ball instead of the position (D.1.3)
+KEEP_AWAY = FREE_KICK_DISTANCE + 0.8  # m from the ball at the opponents' restarts
+GOALIE_LINE = -fld.HALF_LENGTH + 0.5  # m: the goalie's line in front of its goal (D.3.1)
+OPPONENT_RADIUS_SQ = 25.0  # m^2: eq. D.1's opponent penalty reach
+
+
+@dataclass(frozen=True)
+class Mate:
+    """A teammate as this player knows it (team frame)."""
+
+    unum: int
+    x: float
+    y: float
+    heading: float
+    fallen: bool = False
+
+
+@dataclass(frozen=True)
+class TeamView:
+    """One player's snapshot of the world (team frame, m, rad, s)."""
+
+    unum: int
+    time: float
+    mode: PlayMode
+    ours: bool | None  # the play mode is ours (True), theirs (False) or nobody's (None)
+    pose: tuple[float, float, float]
+    fallen: bool
+    ball: np.ndarray | None  # (2,)
+    ball_velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    mates: tuple[Mate, ...] = ()  # known teammates other than this player
+    opponents: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    opponents_fallen: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    kick_targets: tuple[tuple[int, tuple[float, float]], ...] = ()  # (sender, target) heard lately
+
+    @property
+    def me(self) -> Mate:
+        x, y, h = self.pose
+        return Mate(self.unum, x, y, h, self.fallen)
+
+    def team(self) -> list[Mate]:
+        """Every known player of the team, this one included, by shirt number."""
+        return sorted((*self.mates, self.me), key=lambda m: m.unum)
+
+
+# --------------------------------------------------------------- who goes to the ball
+
+def closeness(x: float, y: float, fallen: bool, ball: Sequence[float]) -> float:
+    """D.1.1's adjusted distance (m) of a player at (x, y) to the ball."""
+    bx, by = float(ball[0]), float(ball[1])
+    dist = math.hypot(x - bx, y - by)
+    adjust = FALLEN_PENALTY if fallen and dist > FALLEN_NEAR else 0.0
+    half_goal = fld.GOAL_WIDTH / 2
+    corner_reach = fld.HALF_WIDTH - half_goal
+    if abs(by) > half_goal and bx < -fld.HALF_LENGTH + corner_reach:
+        post = (-fld.HALF_LENGTH, math.copysign(half_goal, by))
+        if math.hypot(x - post[0], y - post[1]) > math.hypot(bx - post[0], by - post[1]):
+            adjust += FRONT_PENALTY  # defending: in front means farther from our post
+    elif abs(by) > half_goal and bx > fld.HALF_LENGTH - corner_reach:
+        post = (fld.HALF_LENGTH, math.copysign(half_goal, by))
+        if math.hypot(x - post[0], y - post[1]) < math.hypot(bx - post[0], by - post[1]):
+            adjust += FRONT_PENALTY
+    elif x >= bx:
+        adjust += FRONT_PENALTY
+    return dist + adjust
+
+
+def in_own_penalty_area(p: Sequence[float], margin: float = 0.0) -> bool:
+    return (p[0] < -fld.HALF_LENGTH + fld.PENALTY_DEPTH + margin
+            and abs(p[1]) < fld.PENALTY_WIDTH / 2 + margin)
+
+
+def on_ball_player(view: TeamView) -> int | None:
+    """Shirt number of the player of least closeness; the goalie only inside its box."""
+    if view.ball is None:
+        return None
+    best, best_c = None, math.inf
+    goalie_may = in_own_penalty_area(view.ball)
+    for m in view.team():
+        if m.unum == GOALIE and not goalie_may:
+            continue
+        c = closeness(m.x, m.y, m.fallen, view.ball)
+        if c < best_c - 1e-9:
+            best, best_c = m.unum, c
+    return best
+
+
+# ------------------------------------------------------------------ role assignment
+
+def role_positions(formation: Formation, ball: np.ndarray, shift: float = 0.0) -> np.ndarray:
+    """(10, 2) positions of FIELD_ROLES for a ball position (the formation's lookup)."""
+    pos = formation.positions_at(np.asarray(ball, dtype=float))
+    out = np.array([pos[formation.index(r)] for r in FIELD_ROLES])
+    if shift:
+        out[1:, 0] = np.clip(out[1:, 0] + shift, -fld.HALF_LENGTH + 0.5, fld.HALF_LENGTH - 0.5)
+    return out
+
+
+def walking_cost(m: Mate, target: np.ndarray) -> float:
+    """Cost (m) of walking to a target: distance, a turn toward it, and a fall (SCRAM's
+    path cost with the robot's state)."""
+    dx, dy = target[0] - m.x, target[1] - m.y
+    dist = math.hypot(dx, dy)
+    turn = abs(wrap(math.atan2(dy, dx) - m.heading)) / math.pi if dist > FACE_BALL_WITHIN else 0.0
+    return dist + TURN_COST * turn + (FALLEN_PENALTY if m.fallen else 0.0)
+
+
+def assign_roles(view: TeamView, targets: np.ndarray, method: str = "mmd-msd2",
+                 on_ball: int | None = None, all_known: bool = False) -> tuple[int, ...]:
+    """This player's vote: the role index (into FIELD_ROLES) of each of shirt numbers 2..11.
+
+    targets: (10, 2) role positions. The on-ball player takes role 0; the other
+    known field players share the next roles by `method` (SCRAM on walking
+    cost); unknown shirt numbers get the roles left over, in order. `method`
+    "static" gives shirt number 2 + k role k."""
+    if method == "static":
+        return tuple(range(len(FIELD_UNUMS)))
+    known = [m for m in view.team() if m.unum in FIELD_UNUMS]
+    roles = [-1] * len(FIELD_UNUMS)
+    free_roles = list(range(len(FIELD_ROLES)))
+    if on_ball is not None and on_ball in FIELD_UNUMS:
+        roles[on_ball - 2] = 0
+        free_roles.remove(0)
+        known = [m for m in known if m.unum != on_ball]
+    k = min(len(known), len(free_roles))
+    if k:
+        use = free_roles[:k]
+        cost = np.array([[walking_cost(m, targets[r]) for r in use] for m in known[:k]])
+        pick = assign_costs(cost, method)
+        for m, j in zip(known[:k], pick):
+            roles[m.unum - 2] = use[int(j)]
+    left = [r for r in free_roles if r not in roles]
+    for i in range(len(roles)):
+        if roles[i] < 0:
+            roles[i] = left.pop(0)
+    return tuple(roles)
+
+
+# --------------------------------------------------------------------- walking
+
+def avoid(me: Sequence[float], target: Sequence[float], obstacles: np.ndarray,
+          proximity: float = PROXIMITY, collision: float = COLLISION) -> np.ndarray:
+    """D.1.2: the point to walk toward instead of `target` (team frame) so as to pass
+    round `obstacles` (k, 2): tangent to one within `proximity`, and away from it
+    too within `collision`. Only obstacles nearer than the target count."""
+    p = np.asarray(me[:2], dtype=float)
+    t = np.asarray(target[:2], dtype=float)
+    to_t = t - p
+    dist = float(np.hypot(*to_t))
+    if dist < 1e-6 or len(obstacles) == 0:
+        return t
+    want = to_t / dist
+    rel = np.asarray(obstacles, dtype=float)[:, :2] - p
+    d = np.hypot(rel[:, 0], rel[:, 1])
+    near = (d < proximity) & (d < dist) & (d > 1e-6) & (rel @ want > 0.0)
+    if not near.any():
+        return t
+    i = int(np.argmin(np.where(near, d, np.inf)))
+    u = rel[i] / d[i]
+    left = np.array([-u[1], u[0]])  # tangent passing the obstacle on its right
+    tangent = left if float(left @ want) >= 0 else -left
+    step = tangent
+    if d[i] < collision:
+        step = tangent - u
+    step = step / max(float(np.hypot(*step)), 1e-9)
+    return p + step * min(dist, proximity)
+
+
+def facing(me: Sequence[float], target: Sequence[float], ball: np.ndarray | None) -> float | None:
+    """D.1.3: the heading to end with at a position: toward the ball once within
+    FACE_BALL_WITHIN of the target (None: keep facing the target)."""
+    if ball is None or math.hypot(target[0] - me[0], target[1] - me[1]) > FACE_BALL_WITHIN:
+        return None
+    return math.atan2(ball[1] - me[1], ball[0] - me[0])
+
+
+def keep_away(target: np.ndarray, ball: np.ndarray, radius: float = KEEP_AWAY) -> np.ndarray:
+    """A position pushed out of a circle round the ball, toward our own goal's side."""
+    d = target - ball
+    n = float(np.hypot(*d))
+    if n >= radius:
+        return target
+    u = d / n if n > 1e-6 else np.array([-1.0, 0.0])
+    return ball + u * radius
+
+
+def own_half(target: np.ndarray, kickoff_taker: bool = False) -> np.ndarray:
+    """A position kept in our half and out of the center circle (kickoff rules)."""
+    p = np.array([min(float(target[0]), -0.3), float(target[1])])
+    r = fld.CENTER_CIRCLE_RADIUS + 0.6
+    if not kickoff_taker and math.hypot(*p) < r:
+        n = float(np.hypot(*p))
+        p = p / n * r if n > 1e-6 else np.array([-r, 0.0])
+    return p
+
+
+# ------------------------------------------------------------------- the ball
+
+def shot_target(ball: np.ndarray, opponents: np.ndarray, reach: float) -> np.ndarray | None:
+    """A point in the opponents' goal to shoot at, if a kick reaching `reach` (m) can
+    get there: the one of five across the mouth farthest from every opponent's
+    line to it."""
+    goal_x = fld.HALF_LENGTH + 0.5
+    ys = np.linspace(-0.35, 0.35, 5) * fld.GOAL_WIDTH
+    best, best_gap = None, -math.inf
+    for y in ys:
+        t = np.array([goal_x, y])
+        if float(np.hypot(*(t - ball))) > reach:
+            continue
+        gap = _clearance(ball, t, opponents)
+        if gap > best_gap:
+            best, best_gap = t, gap
+    return best
+
+
+def _clearance(a: np.ndarray, b: np.ndarray, points: np.ndarray) -> float:
+    """Least distance (m) from `points` (k, 2) to the segment a-b (inf for none)."""
+    if len(points) == 0:
+        return math.inf
+    ab = b - a
+    t = np.clip(((points - a) @ ab) / max(float(ab @ ab), 1e-9), 0.0, 1.0)
+    closest = a + t[:, None] * ab
+    return float(np.min(np.hypot(*(points - closest).T)))
+
+
+def kick_score(target: np.ndarray, opponents: np.ndarray, mates: np.ndarray) -> float:
+    """Equation D.1: toward the goal, away from opponents, near a teammate."""
+    score = -float(np.hypot(*(OPP_GOAL - target)))
+    if len(opponents):
+        d2 = np.sum((opponents - target) ** 2, axis=1)
+        score -= float(np.sum(np.maximum(OPPONENT_RADIUS_SQ - d2, 0.0)))
+    if len(mates):
+        score += max(10.0 - float(np.min(np.hypot(*(mates - target).T))), 0.0)
+    return score
+
+
+def pass_target(ball: np.ndarray, distances: Sequence[float], opponents: np.ndarray,
+                mates: np.ndarray, step: float = math.radians(10.0)) -> tuple[np.ndarray, float]:
+    """D.2.2: the best of the targets every `step` round the ball at each kick distance
+    (m), skipping those out of the field or well backwards; (target, distance)."""
+    best, best_d, best_s = None, 0.0, -math.inf
+    margin = 0.5
+    for a in np.arange(-math.pi, math.pi, step):
+        if abs(a) > math.radians(100):
+            continue  # too far backwards
+        u = np.array([math.cos(a), math.sin(a)])
+        for d in distances:
+            t = ball + d * u
+            if abs(t[0]) > fld.HALF_LENGTH - margin or abs(t[1]) > fld.HALF_WIDTH - margin:
+                continue
+            s = kick_score(t, opponents, mates)
+            if s > best_s:
+                best, best_d, best_s = t, float(d), s
+    if best is None:  # nothing inside: straight at the goal, shortest kick
+        d = float(min(distances))
+        u = (OPP_GOAL - ball) / max(float(np.hypot(*(OPP_GOAL - ball))), 1e-9)
+        return ball + d * u, d
+    return best, best_d
+
+
+def opponent_near_ball(view: TeamView, radius: float) -> bool:
+    """An upright opponent within `radius` (m) of the ball (D.2.1's reason to dribble)."""
+    if view.ball is None or len(view.opponents) == 0:
+        return False
+    d = np.hypot(*(view.opponents - view.ball).T)
+    return bool(np.any((d < radius) & ~view.opponents_fallen))
+
+
+def dribble_target(view: TeamView) -> np.ndarray:
+    """Where to dribble: the goal's center, or across the box toward the far post when
+    an opponent stands on the line to it (a reflex, D.1.5)."""
+    ball = view.ball
+    best, best_gap = OPP_GOAL, -math.inf
+    for y in (0.0, 0.6, -0.6):
+        t = np.array([fld.HALF_LENGTH + 0.5, y])
+        gap = _clearance(ball, t, view.opponents)
+        if gap > best_gap + 0.3:
+            best, best_gap = t, gap
+    return best
+
+
+# ------------------------------------------------------------------------ goalie
+
+def goalie_position(ball: np.ndarray | None) -> tuple[float, float, float]:
+    """D.3.1: on the line 0.5 m in front of the goal, between the ball and the goal's
+    center, facing the ball."""
+    if ball is None:
+        return GOALIE_LINE, 0.0, 0.0
+    gx = -fld.HALF_LENGTH
+    bx, by = float(ball[0]), float(ball[1])
+    if bx - gx < 0.6:
+        y = by
+    else:
+        y = by * (GOALIE_LINE - gx) / (bx - gx)
+    y = float(np.clip(y, -fld.GOAL_WIDTH / 2 + 0.2, fld.GOAL_WIDTH / 2 - 0.2))
+    return GOALIE_LINE, y, math.atan2(by - y, bx - GOALIE_LINE)
+
+
+def dive_for(ball: np.ndarray | None, velocity: np.ndarray, me: Sequence[float],
+             horizon: float = 1.2, reach: float = 0.25) -> str | None:
+    """The dive (skills.dive name) that stops a shot: the ball moving toward our goal
+    crosses the goalie's line within `horizon` s between the posts; a center dive
+    when it passes within `reach` (m) of the goalie, else a side dive."""
+    if ball is None:
+        return None
+    vx, vy = float(velocity[0]), float(velocity[1])
+    if vx > -0.8:
+        return None
+    t = (me[0] - float(ball[0])) / vx
+    if not 0.0 <= t <= horizon:
+        return None
+    y = float(ball[1]) + vy * t
+    if abs(y) > fld.GOAL_WIDTH / 2 + 0.3:
+        return None
+    off = y - me[1]  # + passes on the left of a goalie facing +x
+    if abs(off) < reach:
+        return "DIVE_CENTER"
+    return "DIVE_LEFT" if off * math.cos(me[2]) > 0 else "DIVE_RIGHT"
+
+
+__all__ = [
+    "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "assign_roles", "avoid", "closeness",
+    "dive_for", "dribble_target", "facing", "goalie_position", "keep_away", "kick_score", "on_ball_player",
+    "opponent_near_ball", "own_half", "pass_target", "role_positions", "shot_target", "walking_cost",
+]

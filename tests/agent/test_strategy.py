@@ -1,0 +1,155 @@
+"""The team decision on hand-made snapshots (no physics): who takes the ball, roles,
+where to walk and where to kick."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from agent import strategy as st
+from formations.delaunay import Formation
+from models import field as fld
+from models.rules import PlayMode
+
+
+def view(me=(0.0, 0.0, 0.0), ball=(1.0, 0.0), mates=(), opponents=(), unum=2, fallen=False,
+         mode=PlayMode.PLAY_ON, velocity=(0.0, 0.0)) -> st.TeamView:
+    opp = np.array(opponents, dtype=float).reshape(-1, 2)
+    return st.TeamView(unum=unum, time=0.0, mode=mode, ours=None, pose=tuple(me), fallen=fallen,
+                       ball=None if ball is None else np.array(ball, dtype=float),
+                       ball_velocity=np.array(velocity, dtype=float), mates=tuple(mates),
+                       opponents=opp, opponents_fallen=np.zeros(len(opp), dtype=bool))
+
+
+def test_closeness_adds_a_meter_in_front_of_the_ball_and_a_fall_unless_on_top_of_it():
+    ball = (0.0, 0.0)
+    assert st.closeness(-2.0, 0.0, False, ball) == pytest.approx(2.0)
+    assert st.closeness(2.0, 0.0, False, ball) == pytest.approx(3.0)  # in front
+    assert st.closeness(-2.0, 0.0, True, ball) == pytest.approx(3.5)  # fallen
+    assert st.closeness(-0.5, 0.0, True, ball) == pytest.approx(0.5)  # fallen on top of it
+
+
+def test_closeness_near_the_goals_judges_front_by_the_nearest_post():
+    # Ball beside our goal: a defender nearer our post than the ball is behind it (no penalty),
+    # one farther out is in front.
+    ball = (-14.0, 4.0)
+    inside = st.closeness(-14.5, 2.0, False, ball)
+    outside = st.closeness(-13.5, 6.0, False, ball)
+    assert inside == pytest.approx(math.hypot(0.5, 2.0))
+    assert outside == pytest.approx(math.hypot(0.5, 2.0) + 1.0)
+    # Beside their goal: an attacker nearer their post than the ball is in front.
+    ball = (14.0, -4.0)
+    assert st.closeness(14.5, -2.0, False, ball) == pytest.approx(math.hypot(0.5, 2.0) + 1.0)
+    assert st.closeness(13.0, -5.0, False, ball) == pytest.approx(math.hypot(1.0, 1.0))
+
+
+def test_the_goalie_takes_the_ball_only_inside_its_box():
+    goalie = st.Mate(1, -14.0, 0.0, 0.0)
+    far = st.Mate(5, -5.0, 0.0, 0.0)
+    v = view(me=(-6.0, 3.0, 0.0), ball=(-13.5, 0.5), mates=(goalie, far), unum=3)
+    assert st.on_ball_player(v) == 1
+    v = view(me=(0.0, 5.0, 0.0), ball=(-12.0, 0.5), mates=(goalie, far), unum=3)
+    assert st.on_ball_player(v) == 5  # outside the box the goalie stays home
+
+
+def test_role_assignment_is_the_brute_force_minimum_of_max_then_squares():
+    rng = np.random.default_rng(3)
+    formation = Formation.default()
+    for _ in range(5):
+        ball = rng.uniform([-10, -6], [10, 6])
+        targets = st.role_positions(formation, ball)
+        mates = tuple(st.Mate(u, *rng.uniform([-14, -9], [14, 9]), rng.uniform(-3, 3)) for u in range(3, 9))
+        v = view(me=(0.0, 0.0, 0.0), ball=ball, mates=mates, unum=2)
+        on_ball = st.on_ball_player(v)
+        roles = st.assign_roles(v, targets, "mmd-msd2", on_ball)
+        assert sorted(roles) == list(range(10))
+        assert roles[on_ball - 2] == 0
+        players = [m for m in v.team() if m.unum != on_ball]
+        used = sorted(roles[m.unum - 2] for m in players)
+        assert used == list(range(1, 1 + len(players)))  # the first roles by priority are filled
+        cost = np.array([[st.walking_cost(m, targets[r]) for r in used] for m in players])
+        got = [cost[i, used.index(roles[m.unum - 2])] for i, m in enumerate(players)]
+        best = min(itertools.permutations(range(len(players))),
+                   key=lambda p: (round(max(cost[i, p[i]] for i in range(len(p))), 9),
+                                  sum(cost[i, p[i]] ** 2 for i in range(len(p)))))
+        want = [cost[i, best[i]] for i in range(len(best))]
+        assert max(got) == pytest.approx(max(want))
+        assert sum(c * c for c in got) == pytest.approx(sum(c * c for c in want))
+
+
+def test_static_assignment_gives_shirt_order():
+    v = view()
+    assert st.assign_roles(v, np.zeros((10, 2)), "static") == tuple(range(10))
+
+
+def test_avoid_walks_round_an_obstacle_on_the_way_and_away_when_too_close():
+    me, target = (0.0, 0.0, 0.0), (4.0, 0.0)
+    assert np.allclose(st.avoid(me, target, np.zeros((0, 2))), target)
+    assert np.allclose(st.avoid(me, target, np.array([[0.0, 3.0]])), target)  # not in the way
+    step = st.avoid(me, target, np.array([[1.0, 0.1]]))
+    # Tangent: perpendicular to the obstacle's direction, passing on the side away from it.
+    assert step[1] < 0 and abs(step @ np.array([1.0, 0.1])) < 1e-6 * 10
+    close = st.avoid(me, target, np.array([[0.3, 0.05]]))
+    assert close[0] < 0.0  # within the collision threshold it also backs away
+
+
+def test_facing_turns_to_the_ball_only_near_the_position():
+    assert st.facing((0.0, 0.0), (2.0, 0.0), np.array([0.0, 5.0])) is None
+    assert st.facing((0.0, 0.0), (0.3, 0.0), np.array([0.0, 5.0])) == pytest.approx(math.pi / 2)
+
+
+def test_keep_away_and_own_half():
+    ball = np.array([0.0, 0.0])
+    p = st.keep_away(np.array([0.5, 0.0]), ball)
+    assert np.hypot(*p) == pytest.approx(st.KEEP_AWAY)
+    far = np.array([-5.0, 1.0])
+    assert np.allclose(st.keep_away(far, ball), far)
+    q = st.own_half(np.array([1.0, 3.0]))
+    assert q[0] < 0 and np.hypot(*q) >= fld.CENTER_CIRCLE_RADIUS
+    r = st.own_half(np.array([0.5, 0.2]))
+    assert r[0] < 0 and np.hypot(*r) >= fld.CENTER_CIRCLE_RADIUS
+
+
+def test_pass_target_is_the_best_of_every_candidate_and_shuns_opponents():
+    ball = np.array([0.0, 0.0])
+    dists = [3.0, 6.0]
+    opp = np.array([[6.0, 0.0]])
+    mates = np.array([[4.0, 4.0]])
+    target, d = st.pass_target(ball, dists, opp, mates)
+    best = max(((ball + r * np.array([math.cos(a), math.sin(a)]), r)
+                for a in np.arange(-math.pi, math.pi, math.radians(10)) if abs(a) <= math.radians(100)
+                for r in dists), key=lambda c: st.kick_score(c[0], opp, mates))
+    assert np.allclose(target, best[0]) and d == best[1]
+    assert np.hypot(*(target - opp[0])) > 2.0
+
+
+def test_shot_target_needs_reach_and_aims_away_from_the_goalie():
+    ball = np.array([10.0, 0.0])
+    assert st.shot_target(ball, np.zeros((0, 2)), reach=3.0) is None
+    goalie = np.array([[14.5, 0.5]])
+    t = st.shot_target(ball, goalie, reach=8.0)
+    assert t is not None and t[0] > fld.HALF_LENGTH and t[1] < 0
+    assert abs(t[1]) < fld.GOAL_WIDTH / 2
+
+
+def test_goalie_stands_between_ball_and_goal_and_dives_at_shots():
+    x, y, h = st.goalie_position(np.array([-10.0, 4.0]))
+    assert x == pytest.approx(st.GOALIE_LINE)
+    assert 0.0 < y < fld.GOAL_WIDTH / 2
+    assert math.cos(h) > 0 and math.sin(h) > 0  # facing the ball
+    me = (st.GOALIE_LINE, 0.0, 0.0)
+    assert st.dive_for(np.array([-11.0, 0.0]), np.array([-4.0, 0.0]), me) == "DIVE_CENTER"
+    assert st.dive_for(np.array([-11.0, 0.0]), np.array([-4.0, 0.4]), me) == "DIVE_LEFT"
+    assert st.dive_for(np.array([-11.0, 0.0]), np.array([-4.0, -0.4]), me) == "DIVE_RIGHT"
+    assert st.dive_for(np.array([-11.0, 0.0]), np.array([2.0, 0.0]), me) is None  # going away
+    assert st.dive_for(np.array([-11.0, 0.0]), np.array([-4.0, 3.0]), me) is None  # wide
+    assert st.dive_for(np.array([-3.0, 0.0]), np.array([-1.0, 0.0]), me) is None  # not in time
+
+
+def test_dribble_when_an_upright_opponent_is_near_the_ball():
+    v = view(ball=(0.0, 0.0), opponents=[(1.5, 0.0)])
+    assert st.opponent_near_ball(v, 2.0)
+    assert not st.opponent_near_ball(v, 1.0)
