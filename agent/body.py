@@ -33,6 +33,12 @@ DRIBBLE_LANE = 0.1  # m either side of the ball's line: pushing on
 DRIBBLE_FACING = math.radians(25.0)  # rad of heading error while pushing on
 DRIBBLE_REACH = 0.6  # m from the ball: farther, line up again
 BALL_ROUND = 0.5  # m: go round the ball this far when it is in the way of lining up
+KICK_BEHIND = 0.5  # m behind the ball where the walk hands a kick over to the kicker
+HANDOVER = 0.9  # m from the ball: the kicker (approach, align, kick) takes over
+RELEASE = 1.6  # m: the ball got this far away during the approach: walk again
+SYNC_NEAR = 0.6  # m: farther from the ball the kicker's pose follows the world model's ...
+SYNC_POSITION = 0.25  # m ... when it is this far off
+SYNC_HEADING = math.radians(15.0)  # rad ... or turned this much
 
 
 class Body:
@@ -96,10 +102,11 @@ class Body:
             self.dive = DiveSkill(self.robot_type, req.name, motion=self.motion)
             return self.dive.step(percept)
         if self.kicking:
-            if isinstance(req, Kick) or self.busy:
+            if self.busy or (isinstance(req, Kick) and self._near_ball(world, RELEASE)):
                 return self._kick(req, percept, world)
             self._leave_kicker()
-        elif isinstance(req, Kick) and not self.down and self._may_stop():
+        elif (isinstance(req, Kick) and not self.down and self._near_ball(world, HANDOVER)
+              and self._may_stop()):
             self._start_kick(req, world)
             return self._kick(req, percept, world)
         leaning = max(abs(self.tilt.pitch), abs(self.tilt.roll)) > LEAN
@@ -108,9 +115,8 @@ class Body:
             self._recovering = v is not None
             if v is not None:
                 return v
-        if isinstance(req, Kick):  # waiting for a step to end before the kicker starts
-            bx, by = world.ball_filter.position
-            return self._walk_to(percept, world, bx, by, None)
+        if isinstance(req, Kick):  # far from the ball: walk to line up behind it
+            return self._line_up(percept, world, req.target, KICK_BEHIND)
         if isinstance(req, WalkTo):
             return self._walk_to(percept, world, req.x, req.y, req.heading, req.set_name)
         if isinstance(req, Dribble):
@@ -142,7 +148,27 @@ class Body:
                 k.target = (float(req.target[0]), float(req.target[1]))
                 if set(req.kicks) != set(k.kicks):
                     k.kicks = {n: self.kicks[n] for n in req.kicks}
+                if not self._near_ball(world, SYNC_NEAR):
+                    self._sync_kicker(world)
         return k.act(percept)
+
+    def _near_ball(self, world: WorldModel, radius: float) -> bool:
+        if not world.ball_filter.initialized:
+            return False
+        bx, by = world.ball_filter.position
+        x, y, _ = world.pose
+        return math.hypot(bx - x, by - y) < radius
+
+    def _sync_kicker(self, world: WorldModel) -> None:
+        """Away from the ball the kicker's dead reckoning follows the world model
+        (near it, dead reckoning is the steadier picture of where the ball lies)."""
+        k = self.kicker
+        x, y, h = (float(v) for v in world.pose)
+        off = math.hypot(k.odo.x - x, k.odo.y - y)
+        if off > SYNC_POSITION or abs(wrap(k.odo.heading - h)) > SYNC_HEADING:
+            k.odo.x, k.odo.y, k.odo.heading = x, y, h
+            if world.ball_filter.initialized:
+                k.ball.position = world.ball_filter.position
 
     def _leave_kicker(self) -> None:
         if not self.kicking:
@@ -184,22 +210,40 @@ class Body:
             return self._stand(percept, world, None)
         ball = world.ball_filter.position
         me = np.asarray(world.pose[:2], dtype=float)
-        h = float(world.pose[2])
-        d = np.asarray(req.target, dtype=float) - ball
-        u = d / max(float(np.hypot(*d)), 1e-6)
-        along = float((me - ball) @ u)  # < 0: behind the ball
-        across = float(u[0] * (me - ball)[1] - u[1] * (me - ball)[0])
-        facing = abs(wrap(math.atan2(u[1], u[0]) - h))
+        u = _unit(np.asarray(req.target, dtype=float) - ball)
+        along, across = _ball_frame(me, ball, u)
+        facing = abs(wrap(math.atan2(u[1], u[0]) - float(world.pose[2])))
         if (along < -0.05 and abs(across) < DRIBBLE_LANE and facing < DRIBBLE_FACING
                 and float(np.hypot(*(me - ball))) < DRIBBLE_REACH):
             aim = ball + 0.8 * u - 0.5 * across * np.array([-u[1], u[0]])
             return self._walk_to(percept, world, float(aim[0]), float(aim[1]), None, "go_to_target")
-        stage = ball - DRIBBLE_BEHIND * u
+        return self._line_up(percept, world, req.target, DRIBBLE_BEHIND)
+
+    def _line_up(self, percept: Percept, world: WorldModel, target: tuple[float, float],
+                 behind: float) -> np.ndarray:
+        """Walk to `behind` m behind the ball on its line to `target`, facing along it;
+        from beside or in front of the ball, round it first (D.1.4)."""
+        ball = world.ball_filter.position
+        me = np.asarray(world.pose[:2], dtype=float)
+        u = _unit(np.asarray(target, dtype=float) - ball)
+        along, across = _ball_frame(me, ball, u)
+        stage = ball - behind * u
         if along > -0.15 and abs(across) < BALL_ROUND:  # beside or in front: round the ball first
             side = 1.0 if across >= 0 else -1.0
             stage = ball + BALL_ROUND * side * np.array([-u[1], u[0]]) - 0.2 * u
         heading = math.atan2(u[1], u[0]) if float(np.hypot(*(me - stage))) < 0.5 else None
         return self._walk_to(percept, world, float(stage[0]), float(stage[1]), heading)
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / max(float(np.hypot(*v)), 1e-6)
+
+
+def _ball_frame(me: np.ndarray, ball: np.ndarray, u: np.ndarray) -> tuple[float, float]:
+    """(along, across) of a point in the frame at the ball with x along `u` (m; along < 0
+    is behind the ball)."""
+    d = me - ball
+    return float(d @ u), float(u[0] * d[1] - u[1] * d[0])
 
 
 __all__ = ["Body"]
