@@ -82,7 +82,8 @@ def test_bad_say_is_dropped_with_a_warning_not_a_crash():
     assert said == {1: "ok"} and list(warnings) == [0] and not m.crashed
 
 
-def test_diverging_physics_raises():
+def test_diverging_physics_raises(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # MuJoCo appends its warning to ./MUJOCO_LOG.TXT
     m = standing_match(left=(0,), right=(0,))
     m.world.data.qvel[m.world.players[1].joint_qvel[3]] = np.nan
     with pytest.raises(PhysicsDiverged, match="R1"):
