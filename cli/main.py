@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from cli import teams
-from cli.args import checked, robot_type
+from cli.args import OutputError, check_writable, checked, half_time, robot_type, seed
 
 EXIT_USAGE = 2
 
@@ -19,7 +19,6 @@ class UsageError(Exception):
 
 _team_sizes = checked(int, "team size must be a whole number", lambda n: 1 <= n <= 11,
                       "team size must be 1 to 11")
-_positive = checked(float, "expected a number of seconds", lambda v: v > 0, "must be positive")
 _robot_type = robot_type
 
 
@@ -47,9 +46,9 @@ def build_parser() -> argparse.ArgumentParser:
     m = sub.add_parser("match", help="play one headless match and print the score")
     m.add_argument("--home", default="posture", help=f"left team ({', '.join(teams.names())})")
     m.add_argument("--away", default="posture", help="right team")
-    m.add_argument("--half-time", type=_positive, default=300.0, metavar="SECONDS",
+    m.add_argument("--half-time", type=half_time, default=300.0, metavar="SECONDS",
                    help="game seconds per half (default 300)")
-    m.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    m.add_argument("--seed", type=seed, default=0, help="random seed (default 0)")
     m.add_argument("--home-size", type=_team_sizes, default=11, metavar="N")
     m.add_argument("--away-size", type=_team_sizes, default=11, metavar="N")
     m.add_argument("--out", type=Path, help="write the result as JSON here")
@@ -80,15 +79,9 @@ PLUGINS = ("cli.render_cmd", "cli.batch_cmd", "cli.optimize_cmd")
 
 
 def _plugins() -> list:
+    """The plugin modules; a missing one is an ImportError, never a silent skip."""
     import importlib
-    out = []
-    for name in PLUGINS:
-        try:
-            out.append(importlib.import_module(name))
-        except ModuleNotFoundError as exc:
-            if exc.name != name:
-                raise
-    return out
+    return [importlib.import_module(name) for name in PLUGINS]
 
 
 def _write_text(path: Path, text: str) -> None:
@@ -103,6 +96,10 @@ def cmd_match(args: argparse.Namespace) -> int:
 
     left = teams.factory(args.home)
     right = teams.factory(args.away)
+    if args.out:
+        check_writable(args.out, "--out")
+    if args.log:
+        check_writable(args.log, "--log")
     if args.view:
         from replay.gl import has_display
         if not has_display():
@@ -136,6 +133,7 @@ def cmd_match(args: argparse.Namespace) -> int:
 
 def cmd_model(args: argparse.Namespace) -> int:
     from models.robot import robot_mjcf
+    check_writable(args.out, "--out")
     _write_text(args.out, robot_mjcf(args.robot_type))
     print(f"wrote robot type {args.robot_type} to {args.out}")
     return 0
@@ -146,11 +144,10 @@ def cmd_scene(args: argparse.Namespace) -> int:
     left = args.home_types or Lineup.default(args.home, 1).left
     right = args.away_types or Lineup.default(1, args.away).right
     lineup = Lineup(tuple(left), tuple(right))
+    check_writable(args.out, "--out")
     _write_text(args.out, scene_mjcf(lineup))
     print(f"wrote a {len(left)} vs {len(right)} scene to {args.out}")
     return 0
-
-
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -158,7 +155,7 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return COMMANDS[args.command](args)
-    except (UsageError, teams.UnknownTeam, ValueError) as exc:
+    except (UsageError, teams.UnknownTeam, OutputError, ValueError) as exc:
         print(f"soccer {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:

@@ -8,7 +8,7 @@ import logging
 import sys
 from pathlib import Path
 
-from cli.args import checked, robot_type
+from cli.args import OutputError, check_writable, checked, robot_type, seed
 
 EXIT_USAGE = 2
 CONFIG = "job.json"
@@ -35,9 +35,10 @@ examples:
 """
 
 
-_positive_int = checked(int, "expected a whole number", lambda n: n >= 1, "must be at least 1")
-_workers = checked(int, "expected a whole number of workers", lambda n: n >= 0,
-                   "workers must be 0 (in this process) or more")
+_positive_int = checked(int, "expected a whole number", lambda n: 1 <= n <= 1_000_000,
+                       "must be 1 to 1000000")
+_workers = checked(int, "expected a whole number of workers", lambda n: 0 <= n <= 1024,
+                   "workers must be 0 (in this process) to 1024")
 _sigma = checked(float, "expected a number", lambda v: 0 < v < 1e6, "sigma must be positive")
 _robot_type = robot_type
 
@@ -75,7 +76,7 @@ def register(subparsers) -> dict:
                    help="initial step, in units of each parameter's scale (default 1)")
     p.add_argument("--trials", type=_positive_int, metavar="N",
                    help="seeded trials per candidate (default 1)")
-    p.add_argument("--seed", type=int, help="random seed (default 0)")
+    p.add_argument("--seed", type=seed, help="random seed (default 0)")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=_workers, metavar="W",
                        help="local worker processes (default: one per core; 0: this process)")
@@ -138,6 +139,7 @@ def cmd_optimize(args: argparse.Namespace) -> int:
     try:
         cfg = _config(args)
         out = Path(cfg["out"])
+        check_writable(out, "--resume" if args.resume is not None else "--out", directory=True)
         if args.resume is None and (out / CONFIG).exists():
             raise _Usage(f"{out} already holds a job; continue it with --resume {out} or pick another --out")
         if cfg["file"]:
@@ -149,7 +151,7 @@ def cmd_optimize(args: argparse.Namespace) -> int:
         # Build every layer's problem that can be built now, so bad input fails before any work.
         if not cfg["file"]:
             layers[0].problem(cfg["robot_type"], cfg["params"])
-    except (_Usage, ParamError, ValueError, KeyError, OSError) as exc:
+    except (_Usage, OutputError, ParamError, ValueError, KeyError, OSError) as exc:
         msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         print(f"soccer optimize: error: {msg}", file=sys.stderr)
         return EXIT_USAGE

@@ -119,6 +119,8 @@ def _render(args: argparse.Namespace) -> int:
         raise ValueError("--at and --trail are for a .png picture; use --from/--to for a video")
     if args.start is not None and args.end is not None and args.end < args.start:
         raise ValueError(f"--to {args.end} is before --from {args.start}")
+    from cli.args import check_writable
+    check_writable(args.out, "--out", directory=kind == "frames")
     replay = load(args.log)
     if args.camera is not None:
         parse_camera(args.camera, replay.players)

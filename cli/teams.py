@@ -1,7 +1,9 @@
-"""Teams by name: each a factory (side, unum, robot_type, seed) -> agent."""
+"""Teams by name, or by spec `package.module:factory`: each a factory
+(side, unum, robot_type, seed) -> agent."""
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 
 
@@ -26,8 +28,32 @@ def names() -> list[str]:
     return sorted(TEAMS)
 
 
-def factory(name: str) -> Callable:
-    """The agent factory of team `name`, or UnknownTeam naming the known teams."""
-    if name not in TEAMS:
-        raise UnknownTeam(f"unknown team {name!r}; known teams: {', '.join(names())}")
-    return TEAMS[name]()
+def factory(spec: str) -> Callable:
+    """The agent factory of team `spec`: a registered name, or `package.module:factory`
+    (a callable (side, unum, robot_type, seed) -> agent). A bad one raises UnknownTeam
+    with one line saying why."""
+    if ":" not in spec:
+        if spec not in TEAMS:
+            raise UnknownTeam(f"unknown team {spec!r}; known teams: {', '.join(names())}"
+                              f" (or package.module:factory)")
+        return TEAMS[spec]()
+    module_name, _, attr = spec.partition(":")
+    if not module_name or not attr:
+        raise UnknownTeam(f"team spec {spec!r} must be package.module:factory")
+    try:
+        module = importlib.import_module(module_name)
+    except ModuleNotFoundError as exc:
+        raise UnknownTeam(f"team {spec!r}: no module named {exc.name!r}") from None
+    except Exception as exc:  # noqa: BLE001 - any failure to import is the spec's fault
+        last = (str(exc).strip().splitlines() or [""])[-1]
+        raise UnknownTeam(f"team {spec!r}: importing {module_name} failed: "
+                          f"{type(exc).__name__}: {last}") from None
+    obj = module
+    for part in attr.split("."):
+        try:
+            obj = getattr(obj, part)
+        except AttributeError:
+            raise UnknownTeam(f"team {spec!r}: {module_name} has no {attr!r}") from None
+    if not callable(obj):
+        raise UnknownTeam(f"team {spec!r}: {attr} is not callable")
+    return obj

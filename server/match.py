@@ -36,7 +36,7 @@ from server.log import LogRecorder, MatchLog
 from server.referee import Referee
 from server.sensors import Proprioception, percepts
 from server.vision import VisionSensor
-from server.world import World
+from server.world import PhysicsDiverged, World
 
 log = logging.getLogger(__name__)
 
@@ -46,6 +46,14 @@ class Agent(Protocol):
 
 
 AgentFactory = Callable[[str, int, int, int], Agent]
+
+__all__ = ["Agent", "AgentFactory", "Match", "MatchResult", "PhysicsDiverged", "Timing"]
+
+
+def last_line(exc: BaseException) -> str:
+    """An exception as one line: its type and the last line of its message."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[-1]}" if text else type(exc).__name__
 
 
 @dataclass
@@ -129,6 +137,10 @@ class Match:
                           for p in self.world.players]
         self._max_speed = np.concatenate(self.max_speed)
         self._act_index = np.concatenate([p.actuators for p in self.world.players])
+        # Agents that crashed (raised, or answered with a malformed action): index -> reason.
+        # Like the league's crashed agents, their robots get zero joint velocities from then on.
+        self.crashed: dict[int, str] = {}
+        self._idle = [Action(np.zeros(n)) for n in self.n_joints]
         self.cycle = 0
         self.heard: dict[int, list[HeardMessage]] = {}
         self.warnings: dict[int, list[str]] = {}
@@ -157,11 +169,12 @@ class Match:
         t0 = wallclock.perf_counter()
         percepts = self.percepts()
         t1 = wallclock.perf_counter()
-        actions = [agent.act(pc) for agent, pc in zip(self.agents, percepts)]
+        actions = self._act(percepts)
         t2 = wallclock.perf_counter()
         ctrl, said, warnings = self._apply(actions)
         t3 = wallclock.perf_counter()
         touches = w.step(ctrl)
+        w.check_physics()
         t4 = wallclock.perf_counter()
         ref.update(touches)
         t5 = wallclock.perf_counter()
@@ -181,19 +194,51 @@ class Match:
         t.referee += t5 - t4
         t.log += t7 - t6
 
+    def _act(self, percepts: list[Percept]) -> list[Action]:
+        """Every agent's action; a crashed agent (now or before) is idle."""
+        actions = []
+        crashed = self.crashed
+        for i, (agent, pc) in enumerate(zip(self.agents, percepts)):
+            if crashed and i in crashed:
+                actions.append(self._idle[i])
+                continue
+            try:
+                actions.append(agent.act(pc))
+            except Exception as exc:  # noqa: BLE001 - a crashed agent must not stop the match
+                self._crash(i, f"act raised {last_line(exc)}")
+                actions.append(self._idle[i])
+        return actions
+
+    def _crash(self, i: int, reason: str) -> None:
+        """Agent i crashed: its robot gets zero joint velocities from now on, and an event says so."""
+        p = self.world.players[i]
+        self.crashed[i] = reason
+        log.warning("%s crashed: %s", p.name, reason)
+        self.referee._event("agent_crashed", p.side, p.unum, reason)
+
     def _apply(self, actions: list[Action]) -> tuple[np.ndarray, dict[int, str], dict[int, list[str]]]:
-        """Effectors: joint velocities, says and beams. Bad actions are refused per agent."""
+        """Effectors: joint velocities, says and beams. An agent whose action is malformed
+        (not an Action, or joint velocities of the wrong length or not finite) has crashed;
+        a bad say is dropped with a warning, as the league does."""
         w = self.world
         said: dict[int, str] = {}
         warnings: dict[int, list[str]] = {}
         try:  # the usual case: every agent sends the right number of finite velocities
-            jv = [a.joint_velocities for a in actions]
-            v = np.concatenate(jv, dtype=float)
-            ok = v.ndim == 1 and [len(x) for x in jv] == self.n_joints and bool(np.isfinite(v).all())
+            ok = all(type(a) is Action for a in actions)
+            if ok:
+                jv = [a.joint_velocities for a in actions]
+                v = np.concatenate(jv, dtype=float)
+                ok = v.ndim == 1 and [len(x) for x in jv] == self.n_joints and bool(np.isfinite(v).all())
         except (AttributeError, TypeError, ValueError):
             ok = False
         if not ok:
-            v = np.concatenate([self._velocities(i, a, warnings) for i, a in enumerate(actions)])
+            actions = list(actions)
+            for i, a in enumerate(actions):
+                reason = self._malformed(i, a)
+                if reason is not None:
+                    self._crash(i, reason)
+                    actions[i] = self._idle[i]
+            v = np.concatenate([np.asarray(a.joint_velocities, dtype=float) for a in actions])
         beam_ok = None
         self.targets.fill(np.nan)
         for i, a in enumerate(actions):
@@ -208,7 +253,10 @@ class Match:
                 if beam_ok is None:
                     beam_ok = self.referee.beam_allowed()
                 if beam_ok:
-                    self._beam(i, a.beam)
+                    try:
+                        self._beam(i, a.beam)
+                    except (TypeError, ValueError) as exc:
+                        self._crash(i, f"malformed beam: {last_line(exc)}")
                 else:
                     warnings.setdefault(i, []).append(f"beam refused in {self.referee.mode.value}")
             if a.annotations and a.annotations.get("target") is not None:
@@ -217,18 +265,20 @@ class Match:
         ctrl[self._act_index] = np.maximum(np.minimum(v, self._max_speed), -self._max_speed)
         return ctrl, said, warnings
 
-    def _velocities(self, i: int, a: Action, warnings: dict[int, list[str]]) -> np.ndarray:
-        """Agent i's joint velocities, or zeros and a warning when they are malformed."""
+    def _malformed(self, i: int, a: object) -> str | None:
+        """Why agent i's action is malformed, or None when it is fine."""
+        if not isinstance(a, Action):
+            return f"act returned {type(a).__name__}, not an Action"
         n = self.n_joints[i]
         try:
-            v = np.asarray(getattr(a, "joint_velocities", None), dtype=float)
+            v = np.asarray(a.joint_velocities, dtype=float)
         except (TypeError, ValueError):
-            v = np.zeros(0)
-        if v.shape != (n,) or not np.all(np.isfinite(v)):
-            warnings.setdefault(i, []).append(
-                f"joint_velocities must be {n} finite numbers; got shape {v.shape}")
-            v = np.zeros(n)
-        return v
+            return f"joint_velocities must be {n} finite numbers; got {type(a.joint_velocities).__name__}"
+        if v.shape != (n,):
+            return f"joint_velocities must be {n} finite numbers; got shape {v.shape}"
+        if not np.all(np.isfinite(v)):
+            return f"joint_velocities must be {n} finite numbers; got a non-finite value"
+        return None
 
     def _beam(self, i: int, beam: tuple[float, float, float]) -> None:
         """Beam player i to (x, y, heading) of its team frame, with the league's noise."""

@@ -23,6 +23,17 @@ from models.rules import CYCLE, PHYSICS_DT
 from server._kernels import ball_touchers
 
 
+class PhysicsDiverged(RuntimeError):
+    """The simulation became unstable (non-finite state, or MuJoCo's instability warnings).
+
+    A match that raises it has no valid result: it is never silently reset."""
+
+
+# MuJoCo's warnings of an unstable simulation (it resets MjData when it gives them).
+_UNSTABLE = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
+             mujoco.mjtWarning.mjWARN_BADQACC)
+
+
 @dataclass(frozen=True)
 class PlayerIndex:
     """Where one player lives in the MuJoCo model."""
@@ -83,6 +94,9 @@ class World:
                 geoms=(int(gids.min()), int(gids.max())),
             ))
         self.geom_owner = geom_owner
+        # The player owning each degree of freedom (-1: the ball), to name a diverging robot.
+        torso_of = {p.torso: p.index for p in self.players}
+        self.dof_owner = np.array([torso_of.get(int(m.body_rootid[b]), -1) for b in m.dof_bodyid])
         self.ball_geom = m.geom("ball").id
         self._touch_buf = np.empty(64, dtype=np.int32)  # a ball touches a few geoms at once
         self.ball_body = m.body("ball").id
@@ -136,6 +150,28 @@ class World:
         self.root_acc /= dt
         self.time += dt
         return touches
+
+    def check_physics(self) -> None:
+        """Raise PhysicsDiverged when the state is not finite or MuJoCo warned of instability."""
+        d = self.data
+        warned = [w for w in _UNSTABLE if d.warning[w].number]
+        if not warned and math.isfinite(float(d.qpos.sum() + d.qvel.sum())):
+            return
+        if warned:
+            w = warned[0]
+            k = int(d.warning[w].lastinfo)
+            what = f"MuJoCo warning {w.name} (dof {k})"
+        else:
+            bad = np.nonzero(~np.isfinite(d.qvel))[0]
+            k = int(bad[0]) if len(bad) else -1
+            if k < 0:
+                bad_q = np.nonzero(~np.isfinite(d.qpos))[0]
+                k = int(np.searchsorted(self.model.jnt_qposadr, bad_q[0], side="right")) - 1
+                k = int(self.model.jnt_dofadr[k])
+            what = f"non-finite state (dof {k})"
+        owner = int(self.dof_owner[k]) if 0 <= k < len(self.dof_owner) else -1
+        who = self.players[owner].name if owner >= 0 else "the ball"
+        raise PhysicsDiverged(f"physics diverged at {self.time:.2f} s: {what} of {who}")
 
     # --------------------------------------------------------------- ground truth
 
