@@ -165,6 +165,7 @@ class Referee:
             self._kickoff(other(self.mode.team))
         elif self.mode in RESTARTS and elapsed >= DROP_BALL_TIME - 1e-9:
             self._event("drop_ball", self.mode.team, None, f"no touch for {DROP_BALL_TIME:g} s")
+            self.kickoff_pending = False  # a dropped ball is no kickoff: anyone may score from it
             self._set_mode(PM.PLAY_ON)
         if self.half == 1 and self.game_time >= self.half_time - 1e-9:
             self.half = 2

@@ -174,3 +174,16 @@ def test_player_down_too_long_is_repositioned():
     assert moved and "too long" in moved[0].detail
     assert m.world.torso_up()[1] > 0.9  # put back on its feet, off the side line
     assert abs(m.world.torso_positions()[1, 1]) > 10.0
+
+
+def test_a_dropped_kickoff_ball_may_be_scored_by_anyone():
+    m = standing_match()
+    far_away(m)
+    m.referee.set_play_mode(PlayMode.KICK_OFF_RIGHT)  # the right team's kickoff, never taken
+    m.referee.kickoff_pending = True
+    run(m, 15.1)
+    assert m.referee.mode == PlayMode.PLAY_ON and "drop_ball" in kinds(m)
+    m.world.place_ball((13.0, 0.0))
+    m.world.set_ball_velocity((6.0, 0.0, 0.0))
+    run(m, 2.0)
+    assert m.referee.score["L"] == 1 and "no_goal" not in kinds(m)
