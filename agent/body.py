@@ -10,6 +10,7 @@ request takes the body. Poses come from the world model (team frame, m, rad).
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
@@ -133,6 +134,7 @@ class Body:
     def _start_kick(self, req: Kick, world: WorldModel) -> None:
         self.kicker.kicks = {n: self.kicks[n] for n in req.kicks}
         self.kicker.start(tuple(float(v) for v in world.pose), req.target)
+        self.kicker.tilt = copy.deepcopy(self.tilt)  # its own is stale after a spell of walking
         if world.ball_filter.initialized:
             self.kicker.ball.position = world.ball_filter.position
             self.kicker.ball.seen_at = world.ball.last_seen

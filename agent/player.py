@@ -23,6 +23,7 @@ from agent.body import Body
 from agent.requests import Dive, Dribble, Kick, SkillRequest, Stand, WalkTo
 from agent.teamconfig import VILLA, TeamConfig
 from agent.worldmodel import WorldModel
+from formations import marking
 from formations.delaunay import Formation
 from formations.voting import VoteWindow
 from models import field as fld
@@ -65,7 +66,8 @@ class Player:
         self.body = Body(robot_type)
         self.formation = _formation(config.formation)
         self.votes = VoteWindow(TEAM_SIZE)
-        self.vote: tuple[int, ...] | None = None
+        self.vote: tuple[int, ...] | None = None  # this player's own role mapping
+        self.mapping: tuple[int, ...] | None = None  # the mapping it follows (the team's vote)
         self.role = "goalie" if unum == st.GOALIE else "unknown"
         self.request: SkillRequest = Stand()
         self._beamed_for: tuple[str, float] | None = None
@@ -76,6 +78,8 @@ class Player:
         self.distances = sorted({round(k.spec.distance, 1) for k in self.body.kicks.values()})
         self.on_ball_since: float | None = None  # s: when this player last became the on-ball player
         self._decided: float | None = None  # s, time of the last decision
+        self._marked: np.ndarray | None = None  # opponents marked at the last decision
+        self._selection = None  # the roles marking replaced at the last decision
 
     # ----------------------------------------------------------------- the cycle
 
@@ -142,12 +146,13 @@ class Player:
             self._not_on_ball()
             return Stand(heading=view.pose[2] + 1.0)  # turn to find the ball
         on_ball = self._on_ball(view)
-        targets = st.role_positions(self.formation, view.ball, self.config.formation_shift)
+        targets = self._targets(view)
         if self.unum == st.GOALIE:
             self.role = "goalie"
             return self._on_ball_request(view) if on_ball == self.unum else self._goalie(view)
         self.vote = st.assign_roles(view, targets, self.config.assignment, on_ball)
         mapping = self.votes.winner(self.vote) if self.config.voting else self.vote
+        self.mapping = mapping
         role = st.FIELD_ROLES[mapping[self.unum - 2]]
         if self.config.all_ball:
             role = "onBall"
@@ -158,6 +163,20 @@ class Player:
             return self._on_ball_request(view)
         self._not_on_ball()
         return self._position(view, targets[st.FIELD_ROLES.index(role)])
+
+    def _targets(self, view: st.TeamView) -> np.ndarray:
+        """(10, 2) positions of FIELD_ROLES: the formation's, with marking positions in
+        place of some roles when opponents threaten our goal (chapter 7.3)."""
+        targets = st.role_positions(self.formation, view.ball, self.config.formation_shift)
+        if not self.config.marking or len(view.opponents) == 0:
+            return targets
+        marked = self._marked
+        if marked is not None and len(marked) != len(view.opponents):
+            marked = None
+        plan = marking.plan(targets, st.FIELD_ROLES, view.opponents, view.ball, marked=marked,
+                            previous=self._selection)
+        self._marked, self._selection = plan.marked, plan.selection
+        return plan.targets
 
     def _on_ball(self, view: st.TeamView) -> int | None:
         return st.on_ball_player(view)

@@ -38,6 +38,7 @@ FACE_BALL_WITHIN = 0.5  # m from a position: face the ball instead of the positi
 KEEP_AWAY = FREE_KICK_DISTANCE + 0.8  # m from the ball at the opponents' restarts
 GOALIE_LINE = -fld.HALF_LENGTH + 0.5  # m: the goalie's line in front of its goal (D.3.1)
 OPPONENT_RADIUS_SQ = 25.0  # m^2: eq. D.1's opponent penalty reach
+MIN_SHOT_ANGLE = math.radians(8.0)  # rad: the goal mouth must look at least this wide to shoot
 
 
 @dataclass(frozen=True)
@@ -233,9 +234,12 @@ def own_half(target: np.ndarray, kickoff_taker: bool = False) -> np.ndarray:
 
 def shot_target(ball: np.ndarray, opponents: np.ndarray, reach: float) -> np.ndarray | None:
     """A point in the opponents' goal to shoot at, if a kick reaching `reach` (m) can
-    get there: the one of five across the mouth farthest from every opponent's
-    line to it."""
+    get there and the mouth looks at least MIN_SHOT_ANGLE wide: the one of five
+    across the mouth farthest from every opponent's line to it."""
     goal_x = fld.HALF_LENGTH + 0.5
+    posts = [math.atan2(s * fld.GOAL_WIDTH / 2 - ball[1], fld.HALF_LENGTH - ball[0]) for s in (1.0, -1.0)]
+    if fld.HALF_LENGTH - ball[0] < 0.3 or abs(wrap(posts[0] - posts[1])) < MIN_SHOT_ANGLE:
+        return None  # the mouth looks too narrow for the kicks' aim
     ys = np.linspace(-0.35, 0.35, 5) * fld.GOAL_WIDTH
     best, best_gap = None, -math.inf
     for y in ys:

@@ -133,6 +133,7 @@ def test_shot_target_needs_reach_and_aims_away_from_the_goalie():
     t = st.shot_target(ball, goalie, reach=8.0)
     assert t is not None and t[0] > fld.HALF_LENGTH and t[1] < 0
     assert abs(t[1]) < fld.GOAL_WIDTH / 2
+    assert st.shot_target(np.array([13.0, 9.0]), np.zeros((0, 2)), reach=20.0) is None  # too narrow
 
 
 def test_goalie_stands_between_ball_and_goal_and_dives_at_shots():
