@@ -20,9 +20,8 @@ import math
 import numpy as np
 
 from models import field
+from models.geometry import wrap
 from skills.frames import rot_x, rot_y, rot_z  # noqa: F401  (re-exported for agent modules)
-
-TWO_PI = 2.0 * math.pi
 
 # The head chain (models/nao.py, project axes): neck yaw joint at torso +0.09 z,
 # head pitch joint at neck +0.065 - 0.005 z, camera at the head center (+0.005 z
@@ -30,11 +29,6 @@ TWO_PI = 2.0 * math.pi
 NECK_Z = 0.09  # m, hj1 axis origin above the torso center
 PITCH_PIVOT_Z = 0.06  # m, hj2 axis above the neck origin
 CAMERA_ABOVE_PIVOT = 0.005  # m, head center above the hj2 axis
-
-
-def wrap(a: np.ndarray | float) -> np.ndarray | float:
-    """Angle(s) wrapped into [-pi, pi) (rad)."""
-    return (a + math.pi) % TWO_PI - math.pi
 
 
 def from_polar(pol: np.ndarray) -> np.ndarray:

@@ -33,6 +33,7 @@ import numpy as np
 
 from agent.geometry import landmarks_in_team
 from agent.perception import Observation, observe
+from models.geometry import Pose2, rotate, wrap
 from models.messages import Percept
 from models.rules import CYCLE
 from skills.align import Align
@@ -40,7 +41,7 @@ from skills.approach import Approach, ApproachCommand, ApproachParams, choose_ki
 from skills.imu import TiltEstimator
 from skills.kicks import KickSkill
 from skills.motion import Motion
-from skills.navigate import Odometry, wrap
+from skills.navigate import Odometry
 from skills.walk import DATA as WALK_DATA
 from skills.walk import WalkEngine, WalkParams, load_walk_sets
 
@@ -83,8 +84,7 @@ class BallMemory:
         if obs is None or obs.ball is None:
             return
         bx, by = float(obs.ball[0]), float(obs.ball[1])
-        c, s = math.cos(odo.heading), math.sin(odo.heading)
-        seen = np.array([odo.x + c * bx - s * by, odo.y + s * bx + c * by])
+        seen = np.array(odo.pose.to_world(bx, by))
         fresh = self.position is None or obs.time - self.seen_at > 1.0
         if standing:
             self.still += 1
@@ -255,11 +255,10 @@ class Kicker:
         mid = level @ (0.5 * (ankles[0] + ankles[1]))
         stand = walk.foot_targets(standing=True)
         mid0 = 0.5 * (stand["l"][0] + stand["r"][0])
-        c, s = math.cos(yaw), math.sin(yaw)
-        ox, oy = mid[0] - (c * mid0[0] - s * mid0[1]), mid[1] - (s * mid0[0] + c * mid0[1])
-        x, y, h = self.pose
-        ch, sh = math.cos(h), math.sin(h)
-        return x + ch * ox - sh * oy, y + sh * ox + ch * oy, wrap(h + yaw)
+        rx, ry = rotate(mid0[0], mid0[1], yaw)
+        ox, oy = mid[0] - rx, mid[1] - ry
+        x, y = self.odo.pose.to_world(ox, oy)
+        return x, y, wrap(self.odo.heading + yaw)
 
     def _level(self, percept: Percept) -> np.ndarray:
         """Torso-to-level rotation for vision: from the leg's kinematics with the
@@ -297,8 +296,8 @@ class Kicker:
             a, b = known - kc, seen - sc
             heading = math.atan2(float(np.sum(b[:, 0] * a[:, 1] - b[:, 1] * a[:, 0])),
                                  float(np.sum(b[:, 0] * a[:, 0] + b[:, 1] * a[:, 1])))
-            c, s = math.cos(heading), math.sin(heading)
-            px, py = kc[0] - (c * sc[0] - s * sc[1]), kc[1] - (s * sc[0] + c * sc[1])
+            rx, ry = rotate(sc[0], sc[1], heading)
+            px, py = kc[0] - rx, kc[1] - ry
         else:
             bearing = math.atan2(seen[0, 1], seen[0, 0])
             heading = math.atan2(known[0, 1] - odo.y, known[0, 0] - odo.x) - bearing
@@ -311,8 +310,7 @@ class Kicker:
         odo.x += LANDMARK_GAIN * (px - odo.x)
         odo.y += LANDMARK_GAIN * (py - odo.y)
         if rel is not None:  # the ball was seen from the robot: it moves with the correction
-            c, s = math.cos(odo.heading), math.sin(odo.heading)
-            self.ball.position = np.array([odo.x + c * rel[0] - s * rel[1], odo.y + s * rel[0] + c * rel[1]])
+            self.ball.position = np.array(odo.pose.to_world(*rel))
 
     def _approach(self, percept: Percept) -> np.ndarray:
         b = self.ball.position
@@ -351,9 +349,7 @@ class Kicker:
         self.motion.sense(percept)  # keep the body's tilt estimate current for the stand after
         target = self.align.step(percept)
         tx, ty, _ = self.align.torso()
-        x0, y0, h0 = self._align_start
-        c, s = math.cos(h0), math.sin(h0)
-        self.odo.x, self.odo.y = x0 + c * tx - s * ty, y0 + s * tx + c * ty
+        self.odo.x, self.odo.y = Pose2(*self._align_start).to_world(tx, ty)
         if self.align.done:
             self.state = APPROACH
             self.approach.aligned()

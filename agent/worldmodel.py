@@ -24,9 +24,10 @@ import numpy as np
 
 from agent import comm
 from agent.ballfilter import BallFilter
-from agent.geometry import landmarks_in_team, wrap
+from agent.geometry import landmarks_in_team
 from agent.localization import LocalizationParams, ParticleFilter
 from agent.perception import Observation, observe
+from models.geometry import Pose2, wrap
 from models.messages import SEEN_PARTS, Percept
 from models.rules import CYCLE, TEAM_SIZE, VIEW_CONE
 from skills.imu import TiltEstimator
@@ -126,26 +127,23 @@ class WorldModel:
 
     def to_field(self, level_xyz: np.ndarray) -> np.ndarray:
         """Level-frame points (..., 3) relative to the torso -> team frame (m)."""
-        x, y, t = self.pose
-        c, s = math.cos(t), math.sin(t)
         p = np.asarray(level_xyz, dtype=float)
         out = np.empty(p.shape)
-        out[..., 0] = x + c * p[..., 0] - s * p[..., 1]
-        out[..., 1] = y + s * p[..., 0] + c * p[..., 1]
+        out[..., 0], out[..., 1] = self._pose2().to_world(p[..., 0], p[..., 1])
         out[..., 2] = self.torso_height + p[..., 2]
         return out
 
     def to_level(self, xyz: np.ndarray) -> np.ndarray:
         """Team-frame points (..., 3) -> level frame relative to the torso (m)."""
-        x, y, t = self.pose
-        c, s = math.cos(t), math.sin(t)
         p = np.asarray(xyz, dtype=float)
-        dx, dy = p[..., 0] - x, p[..., 1] - y
         out = np.empty(p.shape)
-        out[..., 0] = c * dx + s * dy
-        out[..., 1] = -s * dx + c * dy
+        out[..., 0], out[..., 1] = self._pose2().to_local(p[..., 0], p[..., 1])
         out[..., 2] = p[..., 2] - self.torso_height
         return out
+
+    def _pose2(self) -> Pose2:
+        x, y, t = (float(v) for v in self.pose)
+        return Pose2(x, y, t)
 
     def ball_relative(self) -> tuple[float, float] | None:
         """(bearing rad in the torso's yaw, ground distance m) of the ball estimate, if any."""

@@ -50,11 +50,12 @@ import numpy as np
 
 from benchmarks.machine import machine
 from benchmarks.stats import rate_ci
+from models.geometry import wrap
 from models.messages import Action
 from models.scene import Lineup
 from server.trainer import Trainer
 from skills.motion import Motion
-from skills.navigate import Odometry, walk_toward, wrap
+from skills.navigate import Odometry, walk_toward
 from skills.walk import WalkEngine, default_param_files, load_walk_sets
 
 # (x, y, stop seconds) relative to the start, facing +x; stops of 0 are pass-through.

@@ -48,9 +48,10 @@ from pathlib import Path
 
 import numpy as np
 
+from models.geometry import Pose2, rotate, wrap
 from skills.align import AlignParams
 from skills.kicks import KickSpec
-from skills.navigate import walk_toward, wrap
+from skills.navigate import walk_toward
 from skills.params import PathLike, load_params, with_type_file
 from skills.walk import WalkParams
 
@@ -123,9 +124,8 @@ def kick_pose(ball: Sequence[float], target: Sequence[float], spec: KickSpec) ->
     """
     bx, by = float(ball[0]), float(ball[1])
     heading = wrap(math.atan2(target[1] - by, target[0] - bx) - spec.direction)
-    c, s = math.cos(heading), math.sin(heading)
-    kx, ky = spec.ball
-    return bx - (c * kx - s * ky), by - (s * kx + c * ky), heading
+    kx, ky = rotate(*spec.ball, heading)
+    return bx - kx, by - ky, heading
 
 
 def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
@@ -200,14 +200,11 @@ class ApproachCommand:
 
 def _to_kick_frame(point: Sequence[float], ball: Sequence[float], heading: float) -> tuple[float, float]:
     """A ground point in the kick frame: origin at the ball, u along `heading`, v left (m)."""
-    ux, uy = math.cos(heading), math.sin(heading)
-    ex, ey = float(point[0]) - float(ball[0]), float(point[1]) - float(ball[1])
-    return ex * ux + ey * uy, -ex * uy + ey * ux
+    return Pose2(float(ball[0]), float(ball[1]), heading).to_local(float(point[0]), float(point[1]))
 
 
 def _from_kick_frame(u: float, v: float, ball: Sequence[float], heading: float) -> tuple[float, float]:
-    ux, uy = math.cos(heading), math.sin(heading)
-    return float(ball[0]) + u * ux - v * uy, float(ball[1]) + u * uy + v * ux
+    return Pose2(float(ball[0]), float(ball[1]), heading).to_world(u, v)
 
 
 class Approach:
@@ -255,9 +252,8 @@ class Approach:
         p = self.params
         gx, gy, gh = kick_pose(ball, target, spec)
         rx, ry, rh = (float(v) for v in robot[:3])
-        c, s = math.cos(rh), math.sin(rh)
-        ex, ey = gx - rx, gy - ry
-        dx, dy = c * ex + s * ey, -s * ex + c * ey  # the pose in the robot frame
+        me = Pose2(rx, ry, rh)
+        dx, dy = me.to_local(gx, gy)  # the pose in the robot frame
         dh = wrap(gh - rh)
         error = (dx, dy, dh)
         tx, ty, th = spec.tolerance
@@ -278,8 +274,8 @@ class Approach:
             return self._walk(robot, ball, (gx, gy, gh), (ru, rv), (pu, pv), behind, error)
         # Ready needs the robot on the pose and the ball where the kick wants it in
         # the robot frame (the two differ by the heading error times the distance).
-        bx, by = float(ball[0]) - rx, float(ball[1]) - ry
-        kx, ky = c * bx + s * by - spec.ball[0], -s * bx + c * by - spec.ball[1]
+        bx, by = me.to_local(float(ball[0]), float(ball[1]))
+        kx, ky = bx - spec.ball[0], by - spec.ball[1]
         inside = max(abs(dx), abs(kx)) < tx and max(abs(dy), abs(ky)) < ty and abs(dh) < th
         # Walking, the torso sways and twists with every step: steering watches the
         # error low-passed over about a step (`smooth` s).
@@ -366,8 +362,7 @@ class Approach:
             wu, wv = g[0] - p.stage, g[1]
         wx, wy = _from_kick_frame(wu, wv, ball, pose[2])
         rx, ry, rh = (float(v) for v in robot[:3])
-        c, s = math.cos(rh), math.sin(rh)
-        wdx, wdy = c * (wx - rx) + s * (wy - ry), -s * (wx - rx) + c * (wy - ry)
+        wdx, wdy = Pose2(rx, ry, rh).to_local(wx, wy)
         dw = math.hypot(wdx, wdy)
         # The fast go-to-target set only for walking on ahead; turning, stepping
         # sideways and going round the ball with the steadier approach-to-kick set.

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from benchmarks.walk import new_robot
+from models.geometry import wrap
 from models.messages import Action
-from skills.navigate import Odometry, walk_toward, wrap
+from skills.navigate import Odometry, walk_toward
 
 
 def walk(t, seconds, command, stand=0.5, rng=None, set_name="go_to_target"):
