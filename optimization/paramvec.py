@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from server.files import write_bytes
+from server.files import write_text
 from skills.params import UNITS, ParamError, PathLike, read_entries
 from skills.walk import WALK_SCHEMA, WALK_SETS, default_param_files
 
@@ -263,13 +263,4 @@ def write_param_file(path: PathLike, values: Mapping[str, Mapping[str, float]], 
         for n in d.schema:
             if n in vals:
                 lines.append(f"{d.prefix}{n}\t{format_value(vals[n])}\t# {d.schema[n]}")
-    atomic_write_text(path, "\n".join(lines) + "\n")
-
-
-def atomic_write_text(path: PathLike, text: str) -> None:
-    atomic_write_bytes(path, text.encode("utf-8"))
-
-
-def atomic_write_bytes(path: PathLike, data: bytes) -> None:
-    """Write `data` beside `path`, flush it to disk, then rename it over `path`."""
-    write_bytes(path, data, fsync=True)
+    write_text(path, "\n".join(lines) + "\n", fsync=True)

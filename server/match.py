@@ -7,10 +7,8 @@ only its own `Percept`; nothing else of the world reaches it.
 
 from __future__ import annotations
 
-import json
 import logging
 import math
-import os
 import sys
 import time as wallclock
 from collections.abc import Callable
@@ -30,7 +28,6 @@ from models.rules import (
     PlayMode,
 )
 from models.scene import Lineup
-from server import files
 from server.hearing import Hearing, say_error
 from server.log import LogRecorder, MatchLog
 from server.referee import Referee
@@ -86,16 +83,6 @@ class MatchResult:
             "real_time_factor": round(self.game_time / max(self.wall_time, 1e-9), 2),
             "stats": self.stats, "timing": self.timing, "events": self.events,
         }
-
-
-def write_text(text: str, path: str | os.PathLike) -> None:
-    """Write a text file atomically."""
-    files.write_text(path, text)
-
-
-def write_json(obj: dict, path: str | os.PathLike) -> None:
-    """Write JSON atomically."""
-    write_text(json.dumps(obj, indent=2) + "\n", path)
 
 
 class Match:
