@@ -21,6 +21,7 @@ import numpy as np
 
 from models import field
 from models.geometry import wrap
+from models.rules import Side
 from skills.frames import rot_x, rot_y, rot_z  # noqa: F401  (re-exported for agent modules)
 
 # The head chain (models/nao.py, project axes): neck yaw joint at torso +0.09 z,
@@ -62,7 +63,7 @@ def camera_in_torso(neck_yaw: float, head_pitch: float) -> tuple[np.ndarray, np.
 
 def team_sign(side: str) -> float:
     """+1 for side 'L', -1 for 'R': field frame (x, y) = sign * team frame (x, y)."""
-    return 1.0 if side == "L" else -1.0
+    return 1.0 if side == Side.LEFT else -1.0
 
 
 def field_to_team(xy: np.ndarray, side: str) -> np.ndarray:
@@ -79,7 +80,7 @@ def team_to_field(xy: np.ndarray, side: str) -> np.ndarray:
 
 def heading_field_to_team(theta: float, side: str) -> float:
     """A heading (rad) in the field frame as a heading in the team frame."""
-    return float(wrap(theta + (0.0 if side == "L" else math.pi)))
+    return float(wrap(theta + (0.0 if side == Side.LEFT else math.pi)))
 
 
 def landmarks_in_team(side: str) -> dict[str, np.ndarray]:

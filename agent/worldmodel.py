@@ -42,6 +42,11 @@ _PART = {n: i for i, n in enumerate(SEEN_PARTS)}
 _HALF_CONE = VIEW_CONE / 2 - math.radians(5.0)  # margin for "should have been seen"
 
 
+def player_key(ours: bool, unum: int) -> str:
+    """The `WorldModel.objects` key of a player: "T<unum>" for a teammate, "O<unum>" for an opponent."""
+    return f"{'T' if ours else 'O'}{unum}"
+
+
 @dataclass
 class WorldObject:
     """One object's memory. Positions are in the team frame (m); heading in rad."""
@@ -86,8 +91,8 @@ class WorldModel:
             self.objects[name] = WorldObject(name, position=pos.copy(), valid=True)
         self.objects["ball"] = WorldObject("ball")
         for u in range(1, TEAM_SIZE + 1):
-            self.objects[f"T{u}"] = WorldObject(f"T{u}")
-            self.objects[f"O{u}"] = WorldObject(f"O{u}")
+            for ours in (True, False):
+                self.objects[player_key(ours, u)] = WorldObject(player_key(ours, u))
         self.last_fixed_seen = -math.inf  # s, last vision frame with a landmark or line
         self.torso_height = 0.36  # m, re-estimated from landmarks and lines
         self.observation: Observation | None = None
@@ -120,10 +125,10 @@ class WorldModel:
         return self.objects["ball"]
 
     def teammate(self, unum: int) -> WorldObject:
-        return self.objects[f"T{unum}"]
+        return self.objects[player_key(True, unum)]
 
     def opponent(self, unum: int) -> WorldObject:
-        return self.objects[f"O{unum}"]
+        return self.objects[player_key(False, unum)]
 
     def to_field(self, level_xyz: np.ndarray) -> np.ndarray:
         """Level-frame points (..., 3) relative to the torso -> team frame (m)."""
@@ -215,7 +220,7 @@ class WorldModel:
             ours, unum = key >= 100, int(key % 100)
             if not 1 <= unum <= TEAM_SIZE or (ours and unum == self.unum):
                 continue
-            o = self.objects[f"{'T' if ours else 'O'}{unum}"]
+            o = self.objects[player_key(ours, unum)]
             parts = obs.player_part[sel]
             p = pos[sel]
             head = p[parts == _PART["head"]]

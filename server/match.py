@@ -26,6 +26,7 @@ from models.rules import (
     PLAY_MODES,
     VISION_PERIOD,
     PlayMode,
+    Side,
 )
 from models.scene import Lineup
 from server.hearing import Hearing, say_error
@@ -109,7 +110,7 @@ class Match:
         agent_seeds = rng_agents.integers(0, 2**31 - 1, len(self.world.players))
         self.agents: list[Agent] = []
         for p, s in zip(self.world.players, agent_seeds):
-            factory = left if p.side == "L" else right
+            factory = left if p.side == Side.LEFT else right
             self.agents.append(factory(p.side, p.unum, p.robot_type, int(s)))
         self.n_joints = [len(p.joint_qpos) for p in self.world.players]
         self.max_speed = [np.array([j.max_speed for j in nao.joints(p.robot_type)])
@@ -223,7 +224,7 @@ class Match:
         x, y, th = (float(b) for b in beam)
         if not all(math.isfinite(b) for b in (x, y, th)):
             return
-        if w.players[i].side == "R":
+        if w.players[i].side == Side.RIGHT:
             x, y, th = -x, -y, th + math.pi
         x += self.rng_beam.uniform(-BEAM_NOISE_XY, BEAM_NOISE_XY)
         y += self.rng_beam.uniform(-BEAM_NOISE_XY, BEAM_NOISE_XY)
@@ -264,7 +265,7 @@ class Match:
         ref = self.referee
         stats = {}
         total_possession = sum(ref.possession.values()) or 1.0
-        for team in ("L", "R"):
+        for team in Side:
             stats[team] = {
                 "possession_time": round(ref.possession[team], 2),
                 "possession_share": round(ref.possession[team] / total_possession, 3),
