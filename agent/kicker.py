@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from enum import Enum
 
 import numpy as np
 
@@ -37,7 +38,7 @@ from models.geometry import Pose2, rotate, wrap
 from models.messages import Percept
 from models.rules import CYCLE
 from skills.align import Align
-from skills.approach import Approach, ApproachCommand, ApproachParams, choose_kick
+from skills.approach import Approach, ApproachCommand, ApproachMode, ApproachParams, choose_kick
 from skills.imu import TiltEstimator
 from skills.kicks import KickSkill
 from skills.motion import Motion
@@ -60,7 +61,28 @@ LANDMARK_GATE_M = 1.0  # m: pose fixes farther than this from the dead-reckoned 
 # after a stand at it, fell short (kick_left 6.5 -> 4.8 and 5.0 m standing).
 SKILL_GAINS = (load_walk_sets([WALK_DATA / "walk_defaults.txt"])["go_to_target"].joint_kp, 1.0)
 
-APPROACH, KICK, DONE, WATCH, ALIGN = "approach", "kick", "done", "watch", "align"
+
+
+class KickerState(str, Enum):
+    """What the Kicker does (a `str` Enum, equal to and printed as its value).
+
+    APPROACH the ball (then KICK when the approach says ready, ALIGN when it hands
+    over a small error); ALIGN, step the error off (then APPROACH); KICK (then DONE);
+    DONE, hold the kick's last pose; WATCH, stand watching the ball until `kick_now`
+    (then KICK). A fall in KICK or ALIGN goes back to APPROACH."""
+
+    APPROACH = "approach"
+    KICK = "kick"
+    DONE = "done"
+    WATCH = "watch"
+    ALIGN = "align"
+
+    __str__ = str.__str__
+    __format__ = str.__format__
+
+
+APPROACH, KICK, DONE, WATCH, ALIGN = (KickerState.APPROACH, KickerState.KICK, KickerState.DONE,
+                                      KickerState.WATCH, KickerState.ALIGN)
 
 
 @dataclass
@@ -128,6 +150,8 @@ class Kicker:
         self._set = "go_to_target"  # the walk set in use
         self._recovering = False  # a getup (or the stand after it) has the body
         self._landmarks: dict[str, np.ndarray] | None = None
+        self._states = {APPROACH: self._approach, ALIGN: self._aligning, KICK: self._kicking,
+                        DONE: self._standing_by, WATCH: self._standing_by}
 
     def start(self, pose: tuple[float, float, float], target: tuple[float, float],
               landmarks: bool = True, approach: bool = True) -> None:
@@ -196,20 +220,25 @@ class Kicker:
                 self.state = APPROACH
             self.approach.reset()
             return v
-        if self.state == ALIGN:
-            return self._aligning(percept)
-        if self.state == KICK:
-            assert self.kick is not None
-            target = self.kick.step(percept)
-            if not self.kick.done:
-                return self._skill_command(target, percept)
-            self.state = DONE
-            self._final = target.copy()
-        if self.state in (DONE, WATCH):
-            if self._final is not None:  # after a kick: hold its last (standing) pose; the walk's
-                return self._skill_command(self._final, percept)  # stop-jog tips robots over
-            return self._walk(percept, 0.0, 0.0, 0.0, kp=SKILL_GAINS[0])  # the stand a kick starts from
-        return self._approach(percept)
+        return self._states[self.state](percept)
+
+    # One method per state: this cycle's joint velocities (each may switch `state`).
+
+    def _kicking(self, percept: Percept) -> np.ndarray:
+        """The kick plays; when it ends, DONE holds its last pose."""
+        assert self.kick is not None
+        target = self.kick.step(percept)
+        if not self.kick.done:
+            return self._skill_command(target, percept)
+        self.state = DONE
+        self._final = target.copy()
+        return self._standing_by(percept)
+
+    def _standing_by(self, percept: Percept) -> np.ndarray:
+        """DONE and WATCH: stand still."""
+        if self._final is not None:  # after a kick: hold its last (standing) pose; the walk's
+            return self._skill_command(self._final, percept)  # stop-jog tips robots over
+        return self._walk(percept, 0.0, 0.0, 0.0, kp=SKILL_GAINS[0])  # the stand a kick starts from
 
     def _head(self, percept: Percept) -> np.ndarray:
         rel = self.ball_relative()
@@ -333,13 +362,13 @@ class Kicker:
             self.kick_started = percept.time
             self.kick.reset(self.ball_relative(), self.motion.held_target)
             return self._skill_command(self.kick.step(percept), percept)
-        if cmd.mode == "align" and standing:
+        if cmd.mode is ApproachMode.ALIGN and standing:
             self.state = ALIGN
             self._align_start = self.pose
             self.align.reset(cmd.error)
             self.motion.walk.reset()
             return self._aligning(percept)
-        if cmd.mode in ("stop", "align"):
+        if cmd.mode in (ApproachMode.STOP, ApproachMode.ALIGN):
             self._quick_stop()
         return self._walk(percept, cmd.x, cmd.y, cmd.turn, cmd.set_name)
 
@@ -369,4 +398,4 @@ class Kicker:
             self.motion.walk.reset()
 
 
-__all__ = ["ALIGN", "APPROACH", "DONE", "KICK", "WATCH", "BallMemory", "Kicker"]
+__all__ = ["ALIGN", "APPROACH", "DONE", "KICK", "WATCH", "BallMemory", "Kicker", "KickerState"]
