@@ -55,10 +55,9 @@ SOLE_FORCE = 10.0  # N under a sole before it counts as flat on the ground
 LANDMARK_GAIN = 0.2  # share of a landmark fix taken into the dead-reckoned pose per vision frame
 LANDMARK_GATE = math.radians(30.0)  # heading fixes farther off than this are ignored
 LANDMARK_GATE_M = 1.0  # m: pose fixes farther than this from the dead-reckoned position are ignored
-# Joint gains (kp 1/s, feed-forward factor) of the kicks, the align and the stand while
-# watching to kick, whatever walk set ran last: they were tuned at walk_defaults.txt's
-# joint_kp, read from there. Type 3 walks softer (18); its keyframe kicks at that gain, and
-# after a stand at it, fell short (kick_left 6.5 -> 4.8 and 5.0 m standing).
+# Joint gains (kp 1/s, feed-forward factor) of the kicks, the align and the stand before a
+# kick, whatever walk set ran last: the kicks were tuned at walk_defaults.txt's joint_kp,
+# and at a softer walk's gain (type 3's) they fall short.
 SKILL_GAINS = (load_walk_sets([WALK_DATA / "walk_defaults.txt"])["go_to_target"].joint_kp, 1.0)
 
 

@@ -74,14 +74,10 @@ class WorldModel:
         self.side = side
         self.unum = unum
         self.time = -math.inf
-        # Vision is levelled by this estimate. It turns by the whole gyro (`exact`) and takes
-        # 5 % of the accelerometer's answer a cycle. With the accelerometer read at one physics
-        # substep (aliased foot strikes) it took 1 % (course roll/pitch error 4.8-5.0/3.7-3.8
-        # -> 2.1-2.6/2.7-3.4 deg rms); the cycle's mean acceleration carries no such bias,
-        # and at 1 % the gyro's drift (sampled, it aliases too) then went uncorrected: on
-        # benchmarks.localization's walk, seed 0, roll/pitch 4.9/3.7 deg rms at 1 %, 1.6/1.7
-        # at 5 % (the one-substep accelerometer at 1 %: 2.5/3.0). A fall the gyro did not see
-        # is flagged about 0.6 s later.
+        # Vision is levelled by this estimate: it turns by the whole gyro (`exact`) and takes
+        # 5 % of the accelerometer's answer a cycle, enough to correct the gyro's drift (the
+        # accelerometer is the cycle's mean, unbiased by foot strikes). A fall the gyro did
+        # not see is flagged about 0.6 s later.
         self.tilt = TiltEstimator(blend=0.05, exact=True)
         self.localizer = ParticleFilter(side, seed=seed, params=params)
         self.ball_filter = BallFilter()
