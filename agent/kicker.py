@@ -206,7 +206,7 @@ class Kicker:
             obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
                           self._level(percept))
             if self.use_landmarks and not self._recovering:  # lying, the level frame is a guess
-                self._fix(obs, percept.side)
+                self.landmark_fix(obs, percept.side)
         self.ball.see(obs, self.odo, standing)
         # The getup machinery only once the fused tilt estimate says the torso leans
         # far (its fall detector alone reads the accelerometer, which the walk's
@@ -302,7 +302,7 @@ class Kicker:
         c, s = math.cos(yaw), math.sin(yaw)
         return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) @ m
 
-    def _fix(self, obs: Observation, side: str) -> None:
+    def landmark_fix(self, obs: Observation, side: str) -> None:
         """Pull the dead-reckoned pose toward what seen flags and goal posts say.
 
         Two or more landmarks give a pose (the rigid 2D fit of their seen
