@@ -48,6 +48,7 @@ import math
 import zlib
 from dataclasses import dataclass, field, replace
 
+from models.geometry import wrap
 from models.messages import HeardMessage
 from models.rules import CYCLE, SAY_ALPHABET, SAY_MAX_LENGTH, TEAM_SIZE
 
@@ -96,10 +97,6 @@ Y8 = Quantity(-11.0, 11.0, 8)
 Y7 = Quantity(-11.0, 11.0, 7)
 ANGLE6 = Quantity(-math.pi, math.pi, 6)
 ANGLE4 = Quantity(-math.pi, math.pi, 4)
-
-
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2 * math.pi) - math.pi
 
 
 @dataclass(frozen=True)
@@ -234,7 +231,7 @@ def _encode(msg: TeamMessage) -> tuple[str, TeamMessage]:
     w.put(msg.unum, 4)
     w.put(X10.index(msg.x), 10)
     w.put(Y10.index(msg.y), 10)
-    w.put(ANGLE6.index(_wrap(msg.heading)), 6)
+    w.put(ANGLE6.index(wrap(msg.heading)), 6)
     for flag in (msg.ball is not None, msg.fallen, msg.not_localized, msg.role_vote is not None):
         w.put(int(flag), 1)
     ball = None
@@ -260,7 +257,7 @@ def _encode(msg: TeamMessage) -> tuple[str, TeamMessage]:
         for r in reports:
             if w.used + _report_bits(tag) > room:
                 break
-            ix, iy, ih = X8.index(r.x), Y8.index(r.y), ANGLE4.index(_wrap(r.heading))
+            ix, iy, ih = X8.index(r.x), Y8.index(r.y), ANGLE4.index(wrap(r.heading))
             w.put(tag, TAG_BITS)
             w.put(r.unum, 4)
             w.put(ix, 8)
@@ -287,7 +284,7 @@ def _encode(msg: TeamMessage) -> tuple[str, TeamMessage]:
     text = "".join(reversed(digits))
     sent = TeamMessage(
         unum=msg.unum, x=X10.quantize(msg.x), y=Y10.quantize(msg.y),
-        heading=ANGLE6.quantize(_wrap(msg.heading)), ball=ball, fallen=bool(msg.fallen),
+        heading=ANGLE6.quantize(wrap(msg.heading)), ball=ball, fallen=bool(msg.fallen),
         not_localized=bool(msg.not_localized),
         role_vote=None if msg.role_vote is None else tuple(msg.role_vote), kick=kick,
         teammates=tuple(sent_reports[TAG_TEAMMATE]), opponents=tuple(sent_reports[TAG_OPPONENT]),

@@ -20,9 +20,9 @@ import math
 import numpy as np
 
 from models import field
+from models.geometry import wrap
+from models.rules import Side
 from skills.frames import rot_x, rot_y, rot_z  # noqa: F401  (re-exported for agent modules)
-
-TWO_PI = 2.0 * math.pi
 
 # The head chain (models/nao.py, project axes): neck yaw joint at torso +0.09 z,
 # head pitch joint at neck +0.065 - 0.005 z, camera at the head center (+0.005 z
@@ -30,11 +30,6 @@ TWO_PI = 2.0 * math.pi
 NECK_Z = 0.09  # m, hj1 axis origin above the torso center
 PITCH_PIVOT_Z = 0.06  # m, hj2 axis above the neck origin
 CAMERA_ABOVE_PIVOT = 0.005  # m, head center above the hj2 axis
-
-
-def wrap(a: np.ndarray | float) -> np.ndarray | float:
-    """Angle(s) wrapped into [-pi, pi) (rad)."""
-    return (a + math.pi) % TWO_PI - math.pi
 
 
 def from_polar(pol: np.ndarray) -> np.ndarray:
@@ -68,7 +63,7 @@ def camera_in_torso(neck_yaw: float, head_pitch: float) -> tuple[np.ndarray, np.
 
 def team_sign(side: str) -> float:
     """+1 for side 'L', -1 for 'R': field frame (x, y) = sign * team frame (x, y)."""
-    return 1.0 if side == "L" else -1.0
+    return 1.0 if side == Side.LEFT else -1.0
 
 
 def field_to_team(xy: np.ndarray, side: str) -> np.ndarray:
@@ -85,7 +80,7 @@ def team_to_field(xy: np.ndarray, side: str) -> np.ndarray:
 
 def heading_field_to_team(theta: float, side: str) -> float:
     """A heading (rad) in the field frame as a heading in the team frame."""
-    return float(wrap(theta + (0.0 if side == "L" else math.pi)))
+    return float(wrap(theta + (0.0 if side == Side.LEFT else math.pi)))
 
 
 def landmarks_in_team(side: str) -> dict[str, np.ndarray]:

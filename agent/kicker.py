@@ -28,19 +28,21 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from enum import Enum
 
 import numpy as np
 
 from agent.geometry import landmarks_in_team
 from agent.perception import Observation, observe
+from models.geometry import Pose2, rotate, wrap
 from models.messages import Percept
 from models.rules import CYCLE
 from skills.align import Align
-from skills.approach import Approach, ApproachCommand, ApproachParams, choose_kick
+from skills.approach import Approach, ApproachCommand, ApproachMode, ApproachParams, choose_kick
 from skills.imu import TiltEstimator
 from skills.kicks import KickSkill
 from skills.motion import Motion
-from skills.navigate import Odometry, wrap
+from skills.navigate import Odometry
 from skills.walk import DATA as WALK_DATA
 from skills.walk import WalkEngine, WalkParams, load_walk_sets
 
@@ -53,13 +55,33 @@ SOLE_FORCE = 10.0  # N under a sole before it counts as flat on the ground
 LANDMARK_GAIN = 0.2  # share of a landmark fix taken into the dead-reckoned pose per vision frame
 LANDMARK_GATE = math.radians(30.0)  # heading fixes farther off than this are ignored
 LANDMARK_GATE_M = 1.0  # m: pose fixes farther than this from the dead-reckoned position are ignored
-# Joint gains (kp 1/s, feed-forward factor) of the kicks, the align and the stand while
-# watching to kick, whatever walk set ran last: they were tuned at walk_defaults.txt's
-# joint_kp, read from there. Type 3 walks softer (18); its keyframe kicks at that gain, and
-# after a stand at it, fell short (kick_left 6.5 -> 4.8 and 5.0 m standing).
+# Joint gains (kp 1/s, feed-forward factor) of the kicks, the align and the stand before a
+# kick, whatever walk set ran last: the kicks were tuned at walk_defaults.txt's joint_kp,
+# and at a softer walk's gain (type 3's) they fall short.
 SKILL_GAINS = (load_walk_sets([WALK_DATA / "walk_defaults.txt"])["go_to_target"].joint_kp, 1.0)
 
-APPROACH, KICK, DONE, WATCH, ALIGN = "approach", "kick", "done", "watch", "align"
+
+
+class KickerState(str, Enum):
+    """What the Kicker does (a `str` Enum, equal to and printed as its value).
+
+    APPROACH the ball (then KICK when the approach says ready, ALIGN when it hands
+    over a small error); ALIGN, step the error off (then APPROACH); KICK (then DONE);
+    DONE, hold the kick's last pose; WATCH, stand watching the ball until `kick_now`
+    (then KICK). A fall in KICK or ALIGN goes back to APPROACH."""
+
+    APPROACH = "approach"
+    KICK = "kick"
+    DONE = "done"
+    WATCH = "watch"
+    ALIGN = "align"
+
+    __str__ = str.__str__
+    __format__ = str.__format__
+
+
+APPROACH, KICK, DONE, WATCH, ALIGN = (KickerState.APPROACH, KickerState.KICK, KickerState.DONE,
+                                      KickerState.WATCH, KickerState.ALIGN)
 
 
 @dataclass
@@ -83,8 +105,7 @@ class BallMemory:
         if obs is None or obs.ball is None:
             return
         bx, by = float(obs.ball[0]), float(obs.ball[1])
-        c, s = math.cos(odo.heading), math.sin(odo.heading)
-        seen = np.array([odo.x + c * bx - s * by, odo.y + s * bx + c * by])
+        seen = np.array(odo.pose.to_world(bx, by))
         fresh = self.position is None or obs.time - self.seen_at > 1.0
         if standing:
             self.still += 1
@@ -128,6 +149,8 @@ class Kicker:
         self._set = "go_to_target"  # the walk set in use
         self._recovering = False  # a getup (or the stand after it) has the body
         self._landmarks: dict[str, np.ndarray] | None = None
+        self._states = {APPROACH: self._approach, ALIGN: self._aligning, KICK: self._kicking,
+                        DONE: self._standing_by, WATCH: self._standing_by}
 
     def start(self, pose: tuple[float, float, float], target: tuple[float, float],
               landmarks: bool = True, approach: bool = True) -> None:
@@ -183,7 +206,7 @@ class Kicker:
             obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
                           self._level(percept))
             if self.use_landmarks and not self._recovering:  # lying, the level frame is a guess
-                self._fix(obs, percept.side)
+                self.landmark_fix(obs, percept.side)
         self.ball.see(obs, self.odo, standing)
         # The getup machinery only once the fused tilt estimate says the torso leans
         # far (its fall detector alone reads the accelerometer, which the walk's
@@ -196,20 +219,25 @@ class Kicker:
                 self.state = APPROACH
             self.approach.reset()
             return v
-        if self.state == ALIGN:
-            return self._aligning(percept)
-        if self.state == KICK:
-            assert self.kick is not None
-            target = self.kick.step(percept)
-            if not self.kick.done:
-                return self._skill_command(target, percept)
-            self.state = DONE
-            self._final = target.copy()
-        if self.state in (DONE, WATCH):
-            if self._final is not None:  # after a kick: hold its last (standing) pose; the walk's
-                return self._skill_command(self._final, percept)  # stop-jog tips robots over
-            return self._walk(percept, 0.0, 0.0, 0.0, kp=SKILL_GAINS[0])  # the stand a kick starts from
-        return self._approach(percept)
+        return self._states[self.state](percept)
+
+    # One method per state: this cycle's joint velocities (each may switch `state`).
+
+    def _kicking(self, percept: Percept) -> np.ndarray:
+        """The kick plays; when it ends, DONE holds its last pose."""
+        assert self.kick is not None
+        target = self.kick.step(percept)
+        if not self.kick.done:
+            return self._skill_command(target, percept)
+        self.state = DONE
+        self._final = target.copy()
+        return self._standing_by(percept)
+
+    def _standing_by(self, percept: Percept) -> np.ndarray:
+        """DONE and WATCH: stand still."""
+        if self._final is not None:  # after a kick: hold its last (standing) pose; the walk's
+            return self._skill_command(self._final, percept)  # stop-jog tips robots over
+        return self._walk(percept, 0.0, 0.0, 0.0, kp=SKILL_GAINS[0])  # the stand a kick starts from
 
     def _head(self, percept: Percept) -> np.ndarray:
         rel = self.ball_relative()
@@ -255,11 +283,10 @@ class Kicker:
         mid = level @ (0.5 * (ankles[0] + ankles[1]))
         stand = walk.foot_targets(standing=True)
         mid0 = 0.5 * (stand["l"][0] + stand["r"][0])
-        c, s = math.cos(yaw), math.sin(yaw)
-        ox, oy = mid[0] - (c * mid0[0] - s * mid0[1]), mid[1] - (s * mid0[0] + c * mid0[1])
-        x, y, h = self.pose
-        ch, sh = math.cos(h), math.sin(h)
-        return x + ch * ox - sh * oy, y + sh * ox + ch * oy, wrap(h + yaw)
+        rx, ry = rotate(mid0[0], mid0[1], yaw)
+        ox, oy = mid[0] - rx, mid[1] - ry
+        x, y = self.odo.pose.to_world(ox, oy)
+        return x, y, wrap(self.odo.heading + yaw)
 
     def _level(self, percept: Percept) -> np.ndarray:
         """Torso-to-level rotation for vision: from the leg's kinematics with the
@@ -275,7 +302,7 @@ class Kicker:
         c, s = math.cos(yaw), math.sin(yaw)
         return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) @ m
 
-    def _fix(self, obs: Observation, side: str) -> None:
+    def landmark_fix(self, obs: Observation, side: str) -> None:
         """Pull the dead-reckoned pose toward what seen flags and goal posts say.
 
         Two or more landmarks give a pose (the rigid 2D fit of their seen
@@ -297,8 +324,8 @@ class Kicker:
             a, b = known - kc, seen - sc
             heading = math.atan2(float(np.sum(b[:, 0] * a[:, 1] - b[:, 1] * a[:, 0])),
                                  float(np.sum(b[:, 0] * a[:, 0] + b[:, 1] * a[:, 1])))
-            c, s = math.cos(heading), math.sin(heading)
-            px, py = kc[0] - (c * sc[0] - s * sc[1]), kc[1] - (s * sc[0] + c * sc[1])
+            rx, ry = rotate(sc[0], sc[1], heading)
+            px, py = kc[0] - rx, kc[1] - ry
         else:
             bearing = math.atan2(seen[0, 1], seen[0, 0])
             heading = math.atan2(known[0, 1] - odo.y, known[0, 0] - odo.x) - bearing
@@ -311,8 +338,7 @@ class Kicker:
         odo.x += LANDMARK_GAIN * (px - odo.x)
         odo.y += LANDMARK_GAIN * (py - odo.y)
         if rel is not None:  # the ball was seen from the robot: it moves with the correction
-            c, s = math.cos(odo.heading), math.sin(odo.heading)
-            self.ball.position = np.array([odo.x + c * rel[0] - s * rel[1], odo.y + s * rel[0] + c * rel[1]])
+            self.ball.position = np.array(odo.pose.to_world(*rel))
 
     def _approach(self, percept: Percept) -> np.ndarray:
         b = self.ball.position
@@ -335,13 +361,13 @@ class Kicker:
             self.kick_started = percept.time
             self.kick.reset(self.ball_relative(), self.motion.held_target)
             return self._skill_command(self.kick.step(percept), percept)
-        if cmd.mode == "align" and standing:
+        if cmd.mode is ApproachMode.ALIGN and standing:
             self.state = ALIGN
             self._align_start = self.pose
             self.align.reset(cmd.error)
             self.motion.walk.reset()
             return self._aligning(percept)
-        if cmd.mode in ("stop", "align"):
+        if cmd.mode in (ApproachMode.STOP, ApproachMode.ALIGN):
             self._quick_stop()
         return self._walk(percept, cmd.x, cmd.y, cmd.turn, cmd.set_name)
 
@@ -351,9 +377,7 @@ class Kicker:
         self.motion.sense(percept)  # keep the body's tilt estimate current for the stand after
         target = self.align.step(percept)
         tx, ty, _ = self.align.torso()
-        x0, y0, h0 = self._align_start
-        c, s = math.cos(h0), math.sin(h0)
-        self.odo.x, self.odo.y = x0 + c * tx - s * ty, y0 + s * tx + c * ty
+        self.odo.x, self.odo.y = Pose2(*self._align_start).to_world(tx, ty)
         if self.align.done:
             self.state = APPROACH
             self.approach.aligned()
@@ -373,4 +397,4 @@ class Kicker:
             self.motion.walk.reset()
 
 
-__all__ = ["ALIGN", "APPROACH", "DONE", "KICK", "WATCH", "BallMemory", "Kicker"]
+__all__ = ["ALIGN", "APPROACH", "DONE", "KICK", "WATCH", "BallMemory", "Kicker", "KickerState"]

@@ -40,8 +40,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from agent.geometry import landmarks_in_team, lines_in_team, wrap
+from agent.geometry import landmarks_in_team, lines_in_team
 from models import field
+from models.geometry import Pose2, wrap
 
 # UT Austin Villa's odometry factors (a, b, c) for x, y and turn, as shared/NAO.md
 # reads them from PFLocalization.cc: fitted to their walk's odometry.
@@ -190,10 +191,8 @@ class ParticleFilter:
         p[:, 0] += c * ddx - s * ddy
         p[:, 1] += s * ddx + c * ddy
         p[:, 2] = wrap(p[:, 2] + ddt)
-        x, y, t = self._pose
-        ex, ey = sx * dx, sy * dy
-        self._pose = np.array([x + math.cos(t) * ex - math.sin(t) * ey,
-                               y + math.sin(t) * ex + math.cos(t) * ey, wrap(t + st * dtheta)])
+        pose = Pose2(*(float(v) for v in self._pose))
+        self._pose = np.array([*pose.to_world(sx * dx, sy * dy), wrap(pose.heading + st * dtheta)])
 
     # ------------------------------------------------------------ observations
 

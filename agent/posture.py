@@ -12,6 +12,7 @@ import numpy as np
 
 from models import nao
 from models.messages import Action, Percept
+from models.rules import PlayMode
 
 # Stand pose (rad) by joint perceptor name without its side letter; others 0.
 STAND_POSE = {"lj3": 0.35, "lj4": -0.7, "lj5": 0.35, "aj1": -1.5, "aj4": 0.0}
@@ -24,7 +25,7 @@ HOME = {
     6: (-6.0, 0.0), 7: (-3.5, 3.0), 8: (-3.5, -3.0), 9: (-2.0, 7.0), 10: (-2.0, -7.0),
     11: (-0.8, 0.0),
 }
-BEAM_MODES = ("BeforeKickOff", "Goal_Left", "Goal_Right")
+BEAM_MODES = (PlayMode.BEFORE_KICK_OFF, PlayMode.GOAL_LEFT, PlayMode.GOAL_RIGHT)
 
 
 def stand_pose(robot_type: int) -> np.ndarray:
@@ -45,16 +46,17 @@ class PostureAgent:
         self.unum = unum
         self.target = stand_pose(robot_type)
         self.max_speed = np.array([j.max_speed for j in nao.joints(robot_type)])
-        self._beamed_for: tuple[str, float] | None = None
-        self._mode = ""
+        self._beamed_for: tuple[PlayMode, float] | None = None
+        self._mode: PlayMode | None = None
         self._mode_since = 0.0
 
     def act(self, percept: Percept) -> Action:
-        if percept.play_mode != self._mode:
-            self._mode, self._mode_since = percept.play_mode, percept.time
+        mode = PlayMode(percept.play_mode)
+        if mode != self._mode:
+            self._mode, self._mode_since = mode, percept.time
         vel = np.clip(GAIN * (self.target - percept.joints), -self.max_speed, self.max_speed)
         beam = None
-        if percept.play_mode in BEAM_MODES and self._beamed_for != (self._mode, self._mode_since):
+        if mode in BEAM_MODES and self._beamed_for != (self._mode, self._mode_since):
             x, y = HOME.get(self.unum, (-1.0, 0.0))
             beam = (x, y, 0.0)
             self._beamed_for = (self._mode, self._mode_since)

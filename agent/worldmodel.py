@@ -24,9 +24,10 @@ import numpy as np
 
 from agent import comm
 from agent.ballfilter import BallFilter
-from agent.geometry import landmarks_in_team, wrap
+from agent.geometry import landmarks_in_team
 from agent.localization import LocalizationParams, ParticleFilter
 from agent.perception import Observation, observe
+from models.geometry import Pose2, wrap
 from models.messages import SEEN_PARTS, Percept
 from models.rules import CYCLE, TEAM_SIZE, VIEW_CONE
 from skills.imu import TiltEstimator
@@ -39,6 +40,11 @@ HEARD_BALL_SIGMA = 0.4  # m, a teammate's ball report
 PLAYER_MEMORY = 4.0  # s a player sighting is reported on to teammates
 _PART = {n: i for i, n in enumerate(SEEN_PARTS)}
 _HALF_CONE = VIEW_CONE / 2 - math.radians(5.0)  # margin for "should have been seen"
+
+
+def player_key(ours: bool, unum: int) -> str:
+    """The `WorldModel.objects` key of a player: "T<unum>" for a teammate, "O<unum>" for an opponent."""
+    return f"{'T' if ours else 'O'}{unum}"
 
 
 @dataclass
@@ -68,14 +74,10 @@ class WorldModel:
         self.side = side
         self.unum = unum
         self.time = -math.inf
-        # Vision is levelled by this estimate. It turns by the whole gyro (`exact`) and takes
-        # 5 % of the accelerometer's answer a cycle. With the accelerometer read at one physics
-        # substep (aliased foot strikes) it took 1 % (course roll/pitch error 4.8-5.0/3.7-3.8
-        # -> 2.1-2.6/2.7-3.4 deg rms); the cycle's mean acceleration carries no such bias,
-        # and at 1 % the gyro's drift (sampled, it aliases too) then went uncorrected: on
-        # benchmarks.localization's walk, seed 0, roll/pitch 4.9/3.7 deg rms at 1 %, 1.6/1.7
-        # at 5 % (the one-substep accelerometer at 1 %: 2.5/3.0). A fall the gyro did not see
-        # is flagged about 0.6 s later.
+        # Vision is levelled by this estimate: it turns by the whole gyro (`exact`) and takes
+        # 5 % of the accelerometer's answer a cycle, enough to correct the gyro's drift (the
+        # accelerometer is the cycle's mean, unbiased by foot strikes). A fall the gyro did
+        # not see is flagged about 0.6 s later.
         self.tilt = TiltEstimator(blend=0.05, exact=True)
         self.localizer = ParticleFilter(side, seed=seed, params=params)
         self.ball_filter = BallFilter()
@@ -85,8 +87,8 @@ class WorldModel:
             self.objects[name] = WorldObject(name, position=pos.copy(), valid=True)
         self.objects["ball"] = WorldObject("ball")
         for u in range(1, TEAM_SIZE + 1):
-            self.objects[f"T{u}"] = WorldObject(f"T{u}")
-            self.objects[f"O{u}"] = WorldObject(f"O{u}")
+            for ours in (True, False):
+                self.objects[player_key(ours, u)] = WorldObject(player_key(ours, u))
         self.last_fixed_seen = -math.inf  # s, last vision frame with a landmark or line
         self.torso_height = 0.36  # m, re-estimated from landmarks and lines
         self.observation: Observation | None = None
@@ -119,33 +121,30 @@ class WorldModel:
         return self.objects["ball"]
 
     def teammate(self, unum: int) -> WorldObject:
-        return self.objects[f"T{unum}"]
+        return self.objects[player_key(True, unum)]
 
     def opponent(self, unum: int) -> WorldObject:
-        return self.objects[f"O{unum}"]
+        return self.objects[player_key(False, unum)]
 
     def to_field(self, level_xyz: np.ndarray) -> np.ndarray:
         """Level-frame points (..., 3) relative to the torso -> team frame (m)."""
-        x, y, t = self.pose
-        c, s = math.cos(t), math.sin(t)
         p = np.asarray(level_xyz, dtype=float)
         out = np.empty(p.shape)
-        out[..., 0] = x + c * p[..., 0] - s * p[..., 1]
-        out[..., 1] = y + s * p[..., 0] + c * p[..., 1]
+        out[..., 0], out[..., 1] = self._pose2().to_world(p[..., 0], p[..., 1])
         out[..., 2] = self.torso_height + p[..., 2]
         return out
 
     def to_level(self, xyz: np.ndarray) -> np.ndarray:
         """Team-frame points (..., 3) -> level frame relative to the torso (m)."""
-        x, y, t = self.pose
-        c, s = math.cos(t), math.sin(t)
         p = np.asarray(xyz, dtype=float)
-        dx, dy = p[..., 0] - x, p[..., 1] - y
         out = np.empty(p.shape)
-        out[..., 0] = c * dx + s * dy
-        out[..., 1] = -s * dx + c * dy
+        out[..., 0], out[..., 1] = self._pose2().to_local(p[..., 0], p[..., 1])
         out[..., 2] = p[..., 2] - self.torso_height
         return out
+
+    def _pose2(self) -> Pose2:
+        x, y, t = (float(v) for v in self.pose)
+        return Pose2(x, y, t)
 
     def ball_relative(self) -> tuple[float, float] | None:
         """(bearing rad in the torso's yaw, ground distance m) of the ball estimate, if any."""
@@ -217,7 +216,7 @@ class WorldModel:
             ours, unum = key >= 100, int(key % 100)
             if not 1 <= unum <= TEAM_SIZE or (ours and unum == self.unum):
                 continue
-            o = self.objects[f"{'T' if ours else 'O'}{unum}"]
+            o = self.objects[player_key(ours, unum)]
             parts = obs.player_part[sel]
             p = pos[sel]
             head = p[parts == _PART["head"]]

@@ -34,15 +34,12 @@ from agent.kicker import SKILL_GAINS
 from benchmarks.walk import new_robot
 from models import nao
 from models.field import BALL_RADIUS
+from models.geometry import Pose2, wrap
 from models.messages import Action
 from models.robot import robot_mjcf
 from skills.kicks.ik import IkKick, ik_kicks
 
 CLEARANCE_SAMPLES = 80  # samples of the backswing checked by `backswing_clearance`
-
-
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
 def kick_trial(t: int, kick: IkKick, offset: tuple[float, float] = (0.0, 0.0), roll: float = 3.0,
@@ -56,9 +53,9 @@ def kick_trial(t: int, kick: IkKick, offset: tuple[float, float] = (0.0, 0.0), r
         tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0, kp=SKILL_GAINS[0]))})
     mo.skill_gains(SKILL_GAINS)
     x0, y0, h0 = w.player_pose(0)
-    c, s = math.cos(h0), math.sin(h0)
+    start = Pose2(x0, y0, h0)
     bx, by = kick.spec.ball[0] + offset[0], kick.spec.ball[1] + offset[1]
-    w.place_ball((x0 + c * bx - s * by, y0 + s * bx + c * by))
+    w.place_ball(start.to_world(bx, by))
     b0 = w.ball_position()[:2].copy()
     kick.reset((bx, by))
     fell = False
@@ -76,14 +73,14 @@ def kick_trial(t: int, kick: IkKick, offset: tuple[float, float] = (0.0, 0.0), r
         tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0))})
         if w.torso_up()[0] < 0.5:
             fell = True
-    d = w.ball_rest_position() - b0  # a ball still rolling is carried on to its stop
-    dx, dy = c * d[0] + s * d[1], -s * d[0] + c * d[1]
+    rest = w.ball_rest_position()  # a ball still rolling is carried on to its stop
+    dx, dy = Pose2(b0[0], b0[1], h0).to_local(rest[0], rest[1])
     dist = math.hypot(dx, dy)
     direction = math.atan2(dy, dx)
     a = kick.spec.direction
     along = dx * math.cos(a) + dy * math.sin(a)
     return {"distance": dist, "direction": direction, "along": along, "fell": fell,
-            "deviation": _wrap(direction - a), "error": abs(_wrap(direction - a))}
+            "deviation": wrap(direction - a), "error": abs(wrap(direction - a))}
 
 
 class _Scene:

@@ -50,12 +50,13 @@ import numpy as np
 
 from benchmarks.machine import machine
 from benchmarks.stats import rate_ci
+from models.geometry import wrap
 from models.messages import Action
-from models.scene import Lineup
+from optimization.robot import new_robot as standing_robot
 from server.trainer import Trainer
 from skills.motion import Motion
-from skills.navigate import Odometry, walk_toward, wrap
-from skills.walk import WalkEngine, default_param_files, load_walk_sets
+from skills.navigate import Odometry, walk_toward
+from skills.walk import default_param_files, load_walk_sets
 
 # (x, y, stop seconds) relative to the start, facing +x; stops of 0 are pass-through.
 COURSE = [
@@ -82,18 +83,8 @@ PARAMS: list[str] = []  # walk parameter files loaded after the shipped ones (--
 
 
 def new_robot(t: int, rng: np.random.Generator | None = None) -> tuple[Trainer, Motion]:
-    """A standing robot of type t; with `rng`, its start joints perturbed (sigma 0.01 rad)."""
-    tr = Trainer(Lineup((t,), ()), vision=False)
-    tr.world.place_ball((10.0, 8.0))  # out of the way (it starts on the center spot, under the robot)
-    mo = Motion(t, WalkEngine(t, load_walk_sets([*default_param_files(t), *PARAMS])))
-    q0 = mo.walk.update(0.0, 0.0, 0.0).targets
-    mo.reset()
-    q0 = np.where(np.isnan(q0), 0.0, q0)
-    if rng is not None:
-        q0 = q0 + rng.normal(0.0, 0.01, q0.shape)
-    tr.world.place_robot(0, 0.0, 0.0, 0.0, joints=q0)
-    tr.world.settle_height(0)
-    return tr, mo
+    """`optimization.robot.new_robot` with this run's `--params` walk files."""
+    return standing_robot(t, rng, PARAMS)
 
 
 def fallen(tr: Trainer) -> bool:

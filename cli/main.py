@@ -84,15 +84,11 @@ def _plugins() -> list:
     return [importlib.import_module(name) for name in PLUGINS]
 
 
-def _write_text(path: Path, text: str) -> None:
-    from server.files import write_text
-    write_text(path, text)
-
-
 def cmd_match(args: argparse.Namespace) -> int:
     from models.scene import Lineup
+    from server.files import write_json
     from server.log import write_log
-    from server.match import Match, write_json
+    from server.match import Match
 
     left = teams.factory(args.home)
     right = teams.factory(args.away)
@@ -109,7 +105,7 @@ def cmd_match(args: argparse.Namespace) -> int:
                   record=args.log is not None or args.view, team_names=(args.home, args.away))
     result = match.run(progress=not args.quiet).to_dict()
     if args.out:
-        write_json(result, args.out)
+        write_json(args.out, result)
     if args.log:
         write_log(match.match_log(), args.log)
     s = result["stats"]
@@ -133,19 +129,21 @@ def cmd_match(args: argparse.Namespace) -> int:
 
 def cmd_model(args: argparse.Namespace) -> int:
     from models.robot import robot_mjcf
+    from server.files import write_text
     check_writable(args.out, "--out")
-    _write_text(args.out, robot_mjcf(args.robot_type))
+    write_text(args.out, robot_mjcf(args.robot_type))
     print(f"wrote robot type {args.robot_type} to {args.out}")
     return 0
 
 
 def cmd_scene(args: argparse.Namespace) -> int:
     from models.scene import Lineup, scene_mjcf
+    from server.files import write_text
     left = args.home_types or Lineup.default(args.home, 1).left
     right = args.away_types or Lineup.default(1, args.away).right
     lineup = Lineup(tuple(left), tuple(right))
     check_writable(args.out, "--out")
-    _write_text(args.out, scene_mjcf(lineup))
+    write_text(args.out, scene_mjcf(lineup))
     print(f"wrote a {len(left)} vs {len(right)} scene to {args.out}")
     return 0
 

@@ -36,6 +36,24 @@ HEAR_PERIOD = 2  # cycles: a player hears one message per team in that window
 TEAM_SIZE = 11
 
 
+class Side(str, Enum):
+    """A team's side of the field: the left team defends the goal at -x.
+
+    A `str` Enum equal to the letter SimSpark uses, so it compares, hashes and
+    prints as "L"/"R" (dict keys, JSON and names like "L3" stay as they were)."""
+
+    LEFT = "L"
+    RIGHT = "R"
+
+    __str__ = str.__str__
+    __format__ = str.__format__
+
+    @property
+    def other(self) -> Side:
+        """The opposing side."""
+        return Side.RIGHT if self is Side.LEFT else Side.LEFT
+
+
 class PlayMode(str, Enum):
     """The league's play modes; values are the names SimSpark sends."""
 
@@ -54,18 +72,17 @@ class PlayMode(str, Enum):
     GAME_OVER = "GameOver"
 
     @property
-    def team(self) -> str | None:
-        """'L' or 'R' for a mode that belongs to one team, else None."""
+    def team(self) -> Side | None:
+        """The side a mode belongs to (Side.LEFT for "KickOff_Left"), else None."""
         return _MODE_TEAM[self]
 
 
 PLAY_MODES = tuple(PlayMode)
-_MODE_TEAM = {m: "L" if m.value.lower().endswith("_left") else "R" if m.value.lower().endswith("_right")
-              else None for m in PlayMode}
+_MODE_TEAM = {m: Side.LEFT if m.value.lower().endswith("_left")
+              else Side.RIGHT if m.value.lower().endswith("_right") else None for m in PlayMode}
 
 
 def restart(kind: str, team: str) -> PlayMode:
     """The play mode of a restart kind ('kick_off', 'kick_in', 'corner_kick',
     'goal_kick', 'goal') for team 'L' or 'R'."""
-    side = "LEFT" if team == "L" else "RIGHT"
-    return PlayMode[f"{kind.upper()}_{side}"]
+    return PlayMode[f"{kind.upper()}_{Side(team).name}"]

@@ -13,7 +13,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 
 from models import field, nao, robot
-from models.rules import PHYSICS_DT, TEAM_SIZE
+from models.rules import PHYSICS_DT, TEAM_SIZE, Side
 
 FLOOR_BIT = 1 << 0
 BALL_BIT = 1 << 1
@@ -49,10 +49,10 @@ class Lineup:
             return tuple(i % 5 for i in range(n))
         return cls(team(n_left), team(n_right))
 
-    def players(self) -> list[tuple[str, int, int]]:
+    def players(self) -> list[tuple[Side, int, int]]:
         """(side, uniform number, type) of every player, left team first."""
-        return [("L", i + 1, t) for i, t in enumerate(self.left)] + [
-            ("R", i + 1, t) for i, t in enumerate(self.right)]
+        return [(Side.LEFT, i + 1, t) for i, t in enumerate(self.left)] + [
+            (Side.RIGHT, i + 1, t) for i, t in enumerate(self.right)]
 
 
 def prefix(side: str, unum: int) -> str:
@@ -62,10 +62,10 @@ def prefix(side: str, unum: int) -> str:
 
 def start_pose(side: str, unum: int, robot_type: int) -> tuple[float, float, float, float]:
     """(x, y, z, yaw) off the field by the own half's touch line, before anyone beams."""
-    s = -1.0 if side == "L" else 1.0
+    s = -1.0 if side == Side.LEFT else 1.0
     x = s * (1.0 + 1.2 * (unum - 1))
     return (x, -field.HALF_WIDTH - 0.6, nao.standing_height(robot_type),
-            0.0 if side == "L" else 3.141592653589793)
+            0.0 if side == Side.LEFT else 3.141592653589793)
 
 
 def static_bodies(world: ET.Element) -> None:

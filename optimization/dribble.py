@@ -26,9 +26,10 @@ import numpy as np
 
 from agent.perception import observe
 from models import field as fieldmodel
+from models.geometry import wrap
 from models.messages import Percept
 from optimization.phases import Sim, WalkAgent
-from skills.navigate import walk_toward, wrap
+from skills.navigate import walk_toward
 
 GOAL = (fieldmodel.HALF_LENGTH, 0.0)  # m, field frame: the opponent's goal center
 HEAD_PITCH = -0.6  # rad: the camera looks down enough to see the ball at the feet
@@ -51,9 +52,7 @@ class BallTracker:
             return
         obs = observe(v, percept.time, float(percept.joints[0]), float(percept.joints[1]))
         bx, by = float(obs.ball[0]), float(obs.ball[1])
-        o = agent.odo
-        c, s = math.cos(o.heading), math.sin(o.heading)
-        self.ball = (o.x + c * bx - s * by, o.y + s * bx + c * by)
+        self.ball = agent.odo.pose.to_world(bx, by)
         self.seen_at = percept.time
 
 

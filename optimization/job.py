@@ -45,8 +45,9 @@ import cma
 import numpy as np
 
 from optimization.executor import Evaluator, ExecutorFactory, TrialRequest
-from optimization.paramvec import ParamSpace, atomic_write_bytes, atomic_write_text, write_param_file
+from optimization.paramvec import ParamSpace, write_param_file
 from optimization.types import Task, Values
+from server.files import write_bytes, write_text
 
 CHECKPOINT = "checkpoint.pkl"
 HISTORY = "history.csv"
@@ -173,7 +174,7 @@ class Job:
                  "es": pickle.dumps(self.es), "generation": self.generation, "history": self.history,
                  "best": self.best, "failures": self.failures, "elapsed": self.elapsed,
                  "done": self.done}
-        atomic_write_bytes(self.out_dir / CHECKPOINT, pickle.dumps(state))
+        write_bytes(self.out_dir / CHECKPOINT, pickle.dumps(state), fsync=True)
 
     @property
     def done(self) -> bool:
@@ -253,7 +254,7 @@ class Job:
         w.writeheader()
         for row in self.history:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
-        atomic_write_text(self.out_dir / HISTORY, buf.getvalue())
+        write_text(self.out_dir / HISTORY, buf.getvalue(), fsync=True)
         if self.best.z is not None:
             sp = self.problem.space
             header = (f"best parameters of {self.problem.label or self.problem.task.name} "
@@ -310,7 +311,7 @@ def write_plot(path: Path, history: list[dict], title: str) -> None:
     buf = io.BytesIO()
     fig.savefig(buf, format="png")
     plt.close(fig)
-    atomic_write_bytes(path, buf.getvalue())
+    write_bytes(path, buf.getvalue(), fsync=True)
 
 
 def settings_dict(settings: JobSettings) -> dict:

@@ -28,7 +28,7 @@ import numpy as np
 from optimization.getup import getup_param_set
 from optimization.kick import approach_param_set, kick_param_set, shipped_kick_sets
 from optimization.types import ParamSetDef, ParamSpec, Values
-from server.files import write_bytes
+from server.files import write_text
 from skills.params import ParamError, PathLike, read_entries
 from skills.walk import WALK_SCHEMA, WALK_SETS, default_param_files
 
@@ -214,13 +214,4 @@ def write_param_file(path: PathLike, values: Mapping[str, Mapping[str, float]], 
         for n in d.schema:
             if n in vals:
                 lines.append(f"{d.prefix}{n}\t{format_value(vals[n])}\t# {d.schema[n]}")
-    atomic_write_text(path, "\n".join(lines) + "\n")
-
-
-def atomic_write_text(path: PathLike, text: str) -> None:
-    atomic_write_bytes(path, text.encode("utf-8"))
-
-
-def atomic_write_bytes(path: PathLike, data: bytes) -> None:
-    """Write `data` beside `path`, flush it to disk, then rename it over `path`."""
-    write_bytes(path, data, fsync=True)
+    write_text(path, "\n".join(lines) + "\n", fsync=True)

@@ -38,6 +38,7 @@ from typing import Protocol
 
 import numpy as np
 
+from models.geometry import Pose2
 from models.messages import Action, Percept
 from models.rules import CYCLE
 from models.scene import Lineup
@@ -135,10 +136,8 @@ class Sim:
         return bool(self.trainer.world.torso_up()[0] < FALLEN_UP)
 
     def course_to_world(self, x: float, y: float) -> tuple[float, float]:
-        ox, oy, oh = self.origin
         y = -y if self.mirror else y
-        c, s = math.cos(oh), math.sin(oh)
-        return ox + c * x - s * y, oy + s * x + c * y
+        return Pose2(*self.origin).to_world(x, y)
 
     def stand_upright(self, x: float, y: float, heading: float) -> None:
         """Trainer command: the robot upright at (x, y, heading), standing pose, still."""
@@ -242,10 +241,9 @@ class WaypointPhase:
         px, py, ph = sim.pose()
         ex, ey = self._target[0] - px, self._target[1] - py
         self._d0 = math.hypot(ex, ey)
-        c, s = math.cos(ph), math.sin(ph)
         # The robot is told the target relative to where it truly is, then walks on odometry.
         sim.agent.reset_pose()
-        self._rel = (c * ex + s * ey, -s * ex + c * ey)
+        self._rel = Pose2(px, py, ph).to_local(*self._target)
         self._taken: float | None = None
         self._t0 = sim.time
 

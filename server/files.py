@@ -8,6 +8,7 @@ temporary file's private 0600.
 
 from __future__ import annotations
 
+import json
 import os
 import tempfile
 from collections.abc import Iterator
@@ -47,3 +48,8 @@ def write_bytes(path: str | os.PathLike, data: bytes, fsync: bool = False) -> No
 def write_text(path: str | os.PathLike, text: str, fsync: bool = False) -> None:
     """Write `text` (UTF-8) to `path` atomically."""
     write_bytes(path, text.encode("utf-8"), fsync)
+
+
+def write_json(path: str | os.PathLike, obj: object, fsync: bool = False) -> None:
+    """Write `obj` as indented JSON (with a final newline) to `path` atomically."""
+    write_text(path, json.dumps(obj, indent=2) + "\n", fsync)

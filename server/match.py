@@ -7,10 +7,8 @@ only its own `Percept`; nothing else of the world reaches it.
 
 from __future__ import annotations
 
-import json
 import logging
 import math
-import os
 import sys
 import time as wallclock
 from collections.abc import Callable
@@ -28,9 +26,9 @@ from models.rules import (
     PLAY_MODES,
     VISION_PERIOD,
     PlayMode,
+    Side,
 )
 from models.scene import Lineup
-from server import files
 from server.hearing import Hearing, say_error
 from server.log import LogRecorder, MatchLog
 from server.referee import Referee
@@ -96,16 +94,6 @@ class MatchResult:
         }
 
 
-def write_text(text: str, path: str | os.PathLike) -> None:
-    """Write a text file atomically."""
-    files.write_text(path, text)
-
-
-def write_json(obj: dict, path: str | os.PathLike) -> None:
-    """Write JSON atomically."""
-    write_text(json.dumps(obj, indent=2) + "\n", path)
-
-
 class Match:
     """One match between two teams of agents."""
 
@@ -130,7 +118,7 @@ class Match:
         agent_seeds = rng_agents.integers(0, 2**31 - 1, len(self.world.players))
         self.agents: list[Agent] = []
         for p, s in zip(self.world.players, agent_seeds):
-            factory = left if p.side == "L" else right
+            factory = left if p.side == Side.LEFT else right
             self.agents.append(factory(p.side, p.unum, p.robot_type, int(s)))
         self.n_joints = [len(p.joint_qpos) for p in self.world.players]
         self.max_speed = [np.array([j.max_speed for j in nao.joints(p.robot_type)])
@@ -286,7 +274,7 @@ class Match:
         x, y, th = (float(b) for b in beam)
         if not all(math.isfinite(b) for b in (x, y, th)):
             return
-        if w.players[i].side == "R":
+        if w.players[i].side == Side.RIGHT:
             x, y, th = -x, -y, th + math.pi
         x += self.rng_beam.uniform(-BEAM_NOISE_XY, BEAM_NOISE_XY)
         y += self.rng_beam.uniform(-BEAM_NOISE_XY, BEAM_NOISE_XY)
@@ -327,7 +315,7 @@ class Match:
         ref = self.referee
         stats = {}
         total_possession = sum(ref.possession.values()) or 1.0
-        for team in ("L", "R"):
+        for team in Side:
             stats[team] = {
                 "possession_time": round(ref.possession[team], 2),
                 "possession_share": round(ref.possession[team] / total_possession, 3),

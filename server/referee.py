@@ -28,6 +28,7 @@ from models.rules import (
     MAX_IN_PENALTY_AREA,
     NOT_STANDING_REPOSITION_TIME,
     PlayMode,
+    Side,
     restart,
 )
 from server._kernels import fallen_rules, penalty_area_rules
@@ -43,10 +44,6 @@ GOALIE = 1  # uniform number of the goalie
 DOWN_UP_Z = 0.5  # below: lying (down)
 UP_AGAIN_Z = 0.8  # above: up again (hysteresis for counting falls)
 STANDING_UP_Z = 0.7  # above, with the torso high enough: standing
-
-
-def other(team: str) -> str:
-    return "R" if team == "L" else "L"
 
 
 @dataclass
@@ -66,10 +63,10 @@ class Event:
 class Referee:
     """Play modes, score, restarts and the league's player rules."""
 
-    def __init__(self, world: World, half_time: float = HALF_TIME, first_kickoff: str = "L") -> None:
+    def __init__(self, world: World, half_time: float = HALF_TIME, first_kickoff: Side = Side.LEFT) -> None:
         self.world = world
         self.half_time = half_time
-        self.first_kickoff = first_kickoff
+        self.first_kickoff = Side(first_kickoff)
         n = len(world.players)
         self.mode = PM.BEFORE_KICK_OFF
         self.mode_since = 0.0  # server time the mode began
@@ -80,7 +77,7 @@ class Referee:
         self.last_touch: int | None = None
         self.kickoff_taker: int | None = None
         self.kickoff_pending = False  # the kickoff's second touch has not happened yet
-        self.next_kickoff = first_kickoff
+        self.next_kickoff = self.first_kickoff
         self.down_since = np.full(n, np.nan)
         self.unsteady_since = np.full(n, np.nan)
         self.fallen = np.zeros(n, dtype=bool)
@@ -89,7 +86,7 @@ class Referee:
         self.touches = {"L": 0, "R": 0}
         self.falls = {"L": 0, "R": 0}
         self.is_goalie = world.unum_of == GOALIE
-        self._own_sign = np.where(world.side_of == "L", -1.0, 1.0)  # sign of x in the own half
+        self._own_sign = np.where(world.side_of == Side.LEFT, -1.0, 1.0)  # sign of x in the own half
         self._nobody = np.zeros(n, dtype=bool)
         self._standing_z = 0.6 * world.heights  # m, torso height above which a player stands
         self._down_limit = np.where(self.is_goalie, GOALIE_FALLEN_REPOSITION_TIME,
@@ -124,14 +121,14 @@ class Referee:
     def _unum(self, i: int | None) -> int | None:
         return None if i is None else int(self.world.unum_of[i])
 
-    def _team(self, i: int) -> str:
-        return str(self.world.side_of[i])
+    def _team(self, i: int) -> Side:
+        return Side(str(self.world.side_of[i]))
 
     def _move(self, i: int, x: float, y: float, why: str) -> None:
         w = self.world
         x = float(np.clip(x, -field.HALF_LENGTH, field.HALF_LENGTH))
         y = float(np.clip(y, -field.HALF_WIDTH - 0.5, field.HALF_WIDTH + 0.5))
-        heading = 0.0 if self._team(i) == "L" else math.pi
+        heading = 0.0 if self._team(i) == Side.LEFT else math.pi
         w.place_robot(i, x, y, heading)
         w.settle_height(i)
         self.down_since[i] = np.nan
@@ -162,7 +159,7 @@ class Referee:
         if self.mode == PM.BEFORE_KICK_OFF and elapsed >= BEFORE_KICKOFF_TIME - 1e-9:
             self._kickoff(self.next_kickoff)
         elif self.mode in (PM.GOAL_LEFT, PM.GOAL_RIGHT) and elapsed >= GOAL_PAUSE - 1e-9:
-            self._kickoff(other(self.mode.team))
+            self._kickoff(self.mode.team.other)
         elif self.mode in RESTARTS and elapsed >= DROP_BALL_TIME - 1e-9:
             self._event("drop_ball", self.mode.team, None, f"no touch for {DROP_BALL_TIME:g} s")
             self.kickoff_pending = False  # a dropped ball is no kickoff: anyone may score from it
@@ -170,7 +167,7 @@ class Referee:
         if self.half == 1 and self.game_time >= self.half_time - 1e-9:
             self.half = 2
             self._event("half_time")
-            self.next_kickoff = other(self.first_kickoff)
+            self.next_kickoff = self.first_kickoff.other
             w.place_ball((0.0, 0.0))
             self._set_mode(PM.BEFORE_KICK_OFF)
         elif self.half == 2 and self.game_time >= 2 * self.half_time - 1e-9:
@@ -205,8 +202,8 @@ class Referee:
         last_team = self._team(last) if last is not None else None
         if abs(x) > field.HALF_LENGTH + r:
             sx = 1.0 if x > 0 else -1.0
-            attackers = "L" if x > 0 else "R"
-            defenders = other(attackers)
+            attackers = Side.LEFT if x > 0 else Side.RIGHT
+            defenders = attackers.other
             if abs(y) < field.GOAL_WIDTH / 2 and z < field.GOAL_HEIGHT:
                 if self.kickoff_pending:
                     self._event("no_goal", attackers, self._unum(last),
@@ -229,7 +226,7 @@ class Referee:
                 self._event("out", last_team, self._unum(last), "over the end line")
                 self._goal_kick(defenders, sx)
         elif abs(y) > field.HALF_WIDTH + r:
-            team = other(last_team) if last_team else ("R" if x < 0 else "L")
+            team = last_team.other if last_team else (Side.RIGHT if x < 0 else Side.LEFT)
             self._event("out", last_team, self._unum(last), "over the side line")
             w.place_ball((float(np.clip(x, -field.HALF_LENGTH, field.HALF_LENGTH)),
                           math.copysign(field.HALF_WIDTH, y)))
@@ -258,7 +255,7 @@ class Referee:
         opponent = w.side_of != team
         goal_kick = self.mode in (PM.GOAL_KICK_LEFT, PM.GOAL_KICK_RIGHT)
         if goal_kick:
-            gx = -field.HALF_LENGTH if team == "L" else field.HALF_LENGTH
+            gx = -field.HALF_LENGTH if team == Side.LEFT else field.HALF_LENGTH
             front = abs(gx) - field.PENALTY_DEPTH
             close = opponent & (np.abs(x) > front) & (np.abs(y) < field.PENALTY_WIDTH / 2) & (x * gx > 0)
         else:
@@ -292,13 +289,13 @@ class Referee:
         if n <= MAX_IN_PENALTY_AREA:  # the usual case
             return
         pos = w.torso_positions()
-        for team in ("L", "R"):
+        for team in Side:
             idx = np.nonzero(inside & (w.side_of == team))[0]
             if len(idx) <= MAX_IN_PENALTY_AREA:
                 continue
             cand = [i for i in idx if not self.is_goalie[i]]
             i = max(cand, key=lambda k: (self.area_since[k], k))
-            sx = -1.0 if team == "L" else 1.0
+            sx = -1.0 if team == Side.LEFT else 1.0
             self._event("illegal_defense", team, self._unum(i),
                         f"{len(idx)} players in the own penalty area")
             self._move(i, sx * (field.HALF_LENGTH - field.PENALTY_DEPTH - 0.5), pos[i, 1],

@@ -23,6 +23,7 @@ from models.rules import (
     VISION_SIGMA_DIST,
     VISION_SIGMA_HORIZONTAL,
     VISION_SIGMA_VERTICAL,
+    Side,
 )
 from server._kernels import camera_views
 from server.world import World
@@ -80,12 +81,12 @@ class VisionSensor:
         owner = np.repeat(np.arange(n), nparts)
         pc = slice(nl + 1, self._nobj)
         self._col_side = np.zeros(self._nobj, dtype=bool)
-        self._col_side[pc] = world.side_of[owner] == "L"
+        self._col_side[pc] = world.side_of[owner] == Side.LEFT
         self._col_unum = np.zeros(self._nobj, dtype=world.unum_of.dtype)
         self._col_unum[pc] = world.unum_of[owner]
         self._col_part = np.zeros(self._nobj, dtype=np.intp)
         self._col_part[pc] = np.tile(np.arange(nparts), n)
-        self._side_left = world.side_of == "L"
+        self._side_left = world.side_of == Side.LEFT
         # own[i, k]: object column k is one of player i's own parts (never seen).
         own = np.zeros((n, self._nobj), dtype=bool)
         own[owner, nl + 1 + np.arange(nparts * n)] = True

@@ -19,7 +19,7 @@ import numpy as np
 
 from models import field, nao, robot, scene
 from models.messages import SEEN_PARTS
-from models.rules import CYCLE, PHYSICS_DT
+from models.rules import CYCLE, PHYSICS_DT, Side
 from server._kernels import ball_touchers
 
 
@@ -39,7 +39,7 @@ class PlayerIndex:
     """Where one player lives in the MuJoCo model."""
 
     index: int  # position in World.players
-    side: str  # "L" or "R"
+    side: Side
     unum: int
     robot_type: int
     root_qpos: int  # address of the free joint's 7 qpos (x y z, quaternion w x y z)
@@ -106,7 +106,7 @@ class World:
         self.torso_ids = np.array([p.torso for p in self.players])
         self.camera_ids = np.array([p.camera for p in self.players])
         self.part_ids = np.stack([p.parts for p in self.players])  # (n, 5)
-        self.side_of = np.array([p.side for p in self.players])
+        self.side_of = np.array([str(p.side) for p in self.players])  # "L"/"R" per player
         self.unum_of = np.array([p.unum for p in self.players])
         self.heights = np.array([nao.standing_height(p.robot_type) for p in self.players])
         self.time = 0.0

@@ -44,13 +44,15 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, fields, replace
+from enum import Enum
 from pathlib import Path
 
 import numpy as np
 
+from models.geometry import Pose2, rotate, wrap
 from skills.align import AlignParams
 from skills.kicks.spec import KickSpec
-from skills.navigate import walk_toward, wrap
+from skills.navigate import walk_toward
 from skills.params import PathLike, load_params, with_type_file
 from skills.walk import WalkParams
 
@@ -123,9 +125,8 @@ def kick_pose(ball: Sequence[float], target: Sequence[float], spec: KickSpec) ->
     """
     bx, by = float(ball[0]), float(ball[1])
     heading = wrap(math.atan2(target[1] - by, target[0] - bx) - spec.direction)
-    c, s = math.cos(heading), math.sin(heading)
-    kx, ky = spec.ball
-    return bx - (c * kx - s * ky), by - (s * kx + c * ky), heading
+    kx, ky = rotate(*spec.ball, heading)
+    return bx - kx, by - ky, heading
 
 
 def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
@@ -184,6 +185,31 @@ def decel_speed(d: float, max_decel: float, buffer: float) -> float:
     return math.copysign(math.sqrt(2.0 * max_decel * max(left, 0.0)), d)
 
 
+class ApproachMode(str, Enum):
+    """What the approach does this cycle (`ApproachCommand.mode`; a `str` Enum, equal to
+    and printed as its value).
+
+    Away from the kick pose: WALK (to the staging point behind it) or AROUND (the
+    ball). Near it, the states of `Approach.phase`: CREEP in; STOP, stand and judge
+    the pose (then ready, ALIGN, BACK, CREEP or FIX); FIX a small error stepping on
+    the spot (then STOP); BACK off (then CREEP). ALIGN: standing, the caller should
+    move the robot by `error` with `skills.align` (then `Approach.aligned`: STOP)."""
+
+    WALK = "walk"
+    AROUND = "around"
+    CREEP = "creep"
+    STOP = "stop"
+    FIX = "fix"
+    BACK = "back"
+    ALIGN = "align"
+
+    __str__ = str.__str__
+    __format__ = str.__format__
+
+
+Mode = ApproachMode
+
+
 @dataclass
 class ApproachCommand:
     """Walk inputs in [-1, 1], the walk set to use, and whether the kick may start."""
@@ -194,20 +220,32 @@ class ApproachCommand:
     set_name: str
     ready: bool
     error: tuple[float, float, float]  # (dx m, dy m, dheading rad) to the kick pose, robot frame
-    mode: str = "creep"  # "walk" (to the staging point), "around" (the ball), "creep", "stop", "fix",
-    # "back", or "align": standing, the caller should move the robot by `error` with `skills.align`
+    mode: ApproachMode = ApproachMode.CREEP
+
+
+@dataclass(frozen=True)
+class _Near:
+    """One cycle near the kick pose, as the states see it (robot frame, m and rad)."""
+
+    error: tuple[float, float, float]  # (dx, dy, dheading) to the pose
+    smooth: tuple[float, float, float, float]  # low-passed (dx, dy, dheading, lateral error to the kick line)
+    box: tuple[float, float, float]  # the kick's tolerance (wider after an align)
+    inside: bool  # the pose and the ball within the box
+    set_name: str  # the walk set near the ball
+    standing: bool  # the walk stands still now
+
+    def command(self, x: float, y: float, turn: float, mode: ApproachMode, ready: bool = False,
+                set_name: str | None = None) -> ApproachCommand:
+        return ApproachCommand(x, y, turn, set_name or self.set_name, ready, self.error, mode)
 
 
 def _to_kick_frame(point: Sequence[float], ball: Sequence[float], heading: float) -> tuple[float, float]:
     """A ground point in the kick frame: origin at the ball, u along `heading`, v left (m)."""
-    ux, uy = math.cos(heading), math.sin(heading)
-    ex, ey = float(point[0]) - float(ball[0]), float(point[1]) - float(ball[1])
-    return ex * ux + ey * uy, -ex * uy + ey * ux
+    return Pose2(float(ball[0]), float(ball[1]), heading).to_local(float(point[0]), float(point[1]))
 
 
 def _from_kick_frame(u: float, v: float, ball: Sequence[float], heading: float) -> tuple[float, float]:
-    ux, uy = math.cos(heading), math.sin(heading)
-    return float(ball[0]) + u * ux - v * uy, float(ball[1]) + u * uy + v * ux
+    return Pose2(float(ball[0]), float(ball[1]), heading).to_world(u, v)
 
 
 class Approach:
@@ -223,14 +261,16 @@ class Approach:
         self.params = params or ApproachParams.load()
         self.dt = dt
         self.align = align  # None: no "align" mode (the caller cannot play `skills.align.Align`)
+        self._states = {Mode.STOP: self._stop, Mode.BACK: self._back, Mode.CREEP: self._creep,
+                        Mode.FIX: self._fix}
         self.reset()
 
     def reset(self) -> None:
         """Forget the stop (after a fall, a lost ball or a new target)."""
         self.in_box = 0.0  # s spent standing after a stop
-        self.phase = "creep"  # near the pose: "creep", "stop", "fix" (on the spot), "back"
+        self.phase = Mode.CREEP  # near the pose: CREEP, STOP, FIX (on the spot) or BACK
         self.smooth: np.ndarray | None = None  # low-passed (dx, dy, dheading, lateral) error near the pose
-        self.fix_time = 0.0  # s spent in the current "fix"
+        self.fix_time = 0.0  # s spent in the current FIX
         self.near = False  # using the approach-to-kick rule (hysteresis on `near`)
         self.aligns = 0  # aligns played since the reset: after one, the box is `after_align` wider
 
@@ -238,7 +278,7 @@ class Approach:
         """The caller's `skills.align.Align` has moved the robot: stand, then judge again,
         in a box `after_align` times the kick's: a second align costs about 4 s, and
         the first one's miss is within the align's and the vision's few-mm errors."""
-        self.phase, self.in_box, self.smooth = "stop", 0.0, None
+        self.phase, self.in_box, self.smooth = Mode.STOP, 0.0, None
         self.aligns += 1
 
     def _max_speed(self, set_name: str) -> tuple[float, float]:
@@ -255,9 +295,8 @@ class Approach:
         p = self.params
         gx, gy, gh = kick_pose(ball, target, spec)
         rx, ry, rh = (float(v) for v in robot[:3])
-        c, s = math.cos(rh), math.sin(rh)
-        ex, ey = gx - rx, gy - ry
-        dx, dy = c * ex + s * ey, -s * ex + c * ey  # the pose in the robot frame
+        me = Pose2(rx, ry, rh)
+        dx, dy = me.to_local(gx, gy)  # the pose in the robot frame
         dh = wrap(gh - rh)
         error = (dx, dy, dh)
         tx, ty, th = spec.tolerance
@@ -274,17 +313,17 @@ class Approach:
         else:
             self.near = dist < p.near and behind and abs(dh) < p.enter_turn
         if not self.near:
-            self.in_box, self.phase, self.smooth = 0.0, "creep", None
+            self.in_box, self.phase, self.smooth = 0.0, Mode.CREEP, None
             return self._walk(robot, ball, (gx, gy, gh), (ru, rv), (pu, pv), behind, error)
         # Ready needs the robot on the pose and the ball where the kick wants it in
         # the robot frame (the two differ by the heading error times the distance).
-        bx, by = float(ball[0]) - rx, float(ball[1]) - ry
-        kx, ky = c * bx + s * by - spec.ball[0], -s * bx + c * by - spec.ball[1]
+        bx, by = me.to_local(float(ball[0]), float(ball[1]))
+        kx, ky = bx - spec.ball[0], by - spec.ball[1]
         inside = max(abs(dx), abs(kx)) < tx and max(abs(dy), abs(ky)) < ty and abs(dh) < th
         # Walking, the torso sways and twists with every step: steering watches the
         # error low-passed over about a step (`smooth` s).
         raw = np.array([dx, dy, dh, rv - pv])
-        if self.smooth is None or self.phase == "stop":
+        if self.smooth is None or self.phase is Mode.STOP:
             self.smooth = raw
         else:
             a = self.dt / (p.smooth + self.dt)
@@ -292,57 +331,92 @@ class Approach:
             d[2] = wrap(float(d[2]))
             self.smooth = self.smooth + a * d
         fx, fy, fh, fe = (float(v) for v in self.smooth)
-        if self.phase == "stop":
-            self.in_box = self.in_box + self.dt if standing else 0.0
-            if self.in_box < p.settle:
-                return ApproachCommand(0.0, 0.0, 0.0, near_set, False, error, "stop")
-            if inside:  # judged on sightings taken while standing still
-                return ApproachCommand(0.0, 0.0, 0.0, near_set, True, error, "stop")
-            # Not there: a small error is stepped off precisely, one foot at a time
-            # (`skills.align`); otherwise walk on when short of it, back off when too
-            # close or far off to the side, else fix the error stepping in place.
-            self.in_box, self.fix_time = 0.0, 0.0
-            if self.align is not None and self.align.fits(error):
-                return ApproachCommand(0.0, 0.0, 0.0, near_set, False, error, "align")
-            if dx < -tx or abs(dy) > 2.5 * ty or abs(dh) > th:
-                self.phase = "back"  # turning on the spot is poor: turn walking in again
-            elif dx > tx + 0.02 and abs(dy) < 2.0 * ty:
-                self.phase = "creep"
-            else:
-                self.phase = "fix"
-        vx_max, vy_max = self._max_speed(near_set)
-        if self.phase == "back" and fx > p.back:
-            self.phase = "creep"
-        a = self.align
+        near = _Near(error, (fx, fy, fh, fe), (tx, ty, th), inside, near_set, standing)
+        while True:  # a state either answers or hands over to the next one within the cycle
+            cmd = self._states[self.phase](near)
+            if cmd is not None:
+                return cmd
+
+    # One method per state near the pose: each returns this cycle's command, or None
+    # after switching `phase` to a state that answers in the same cycle.
+
+    def _stop(self, n: _Near) -> ApproachCommand | None:
+        """Standing: once settled, judge the pose on what is seen standing still."""
+        p = self.params
+        self.in_box = self.in_box + self.dt if n.standing else 0.0
+        if self.in_box < p.settle:
+            return n.command(0.0, 0.0, 0.0, Mode.STOP)
+        if n.inside:  # judged on sightings taken while standing still
+            return n.command(0.0, 0.0, 0.0, Mode.STOP, ready=True)
+        # Not there: a small error is stepped off precisely, one foot at a time
+        # (`skills.align`); otherwise walk on when short of it, back off when too
+        # close or far off to the side, else fix the error stepping in place.
+        self.in_box, self.fix_time = 0.0, 0.0
+        if self.align is not None and self.align.fits(n.error):
+            return n.command(0.0, 0.0, 0.0, Mode.ALIGN)
+        dx, dy, dh = n.error
+        tx, ty, th = n.box
+        if dx < -tx or abs(dy) > 2.5 * ty or abs(dh) > th:
+            self.phase = Mode.BACK  # turning on the spot is poor: turn walking in again
+        elif dx > tx + 0.02 and abs(dy) < 2.0 * ty:
+            self.phase = Mode.CREEP
+        else:
+            self.phase = Mode.FIX
+        return None
+
+    def _back(self, n: _Near) -> ApproachCommand | None:
+        """Backing off until `back` behind the pose, then creeping in again."""
+        if n.smooth[0] > self.params.back:
+            self.phase = Mode.CREEP
+            return None
+        return self._steer(n, backing=True)
+
+    def _creep(self, n: _Near) -> ApproachCommand:
+        """Creeping in; at the pose (or close enough for the align) stop and look again."""
+        p, a = self.params, self.align
+        fx, fy, fh, _ = n.smooth
         close = a is not None and fx < 0.5 * a.max_move and abs(fy) < 0.5 * a.max_move \
             and abs(fh) < 0.5 * a.max_turn  # the align steps off the rest more precisely
-        if self.phase == "creep" and (dx < p.lead or close):  # there: stop, look again standing
-            self.phase, self.in_box = "stop", 0.0
-            return ApproachCommand(0.0, 0.0, 0.0, near_set, False, error, "stop")
-        if self.phase == "fix":
-            self.fix_time += self.dt
-            if (abs(fx) < p.stop * tx and abs(fy) < p.stop * ty and abs(fh) < p.stop * th) \
-                    or self.fix_time > p.fix_time:
-                self.phase, self.in_box = "stop", 0.0
-                return ApproachCommand(0.0, 0.0, 0.0, near_set, False, error, "stop")
-            x = 0.0 if abs(fx) < p.stop * tx else decel_speed(fx, p.max_decel_x, p.buffer) / vx_max
-            y = 0.0 if abs(fy) < p.stop * ty else decel_speed(fy, p.max_decel_y, p.buffer) / vy_max
-            turn = float(np.clip(p.fix_turn_gain * fh, -p.fix_max_turn, p.fix_max_turn))
-            turn = 0.0 if abs(fh) < p.stop * th else turn
-            lim = p.max_speed
-            return ApproachCommand(float(np.clip(x, -0.5 * lim, 0.5 * lim)), float(np.clip(y, -lim, lim)),
-                                   turn, near_set, False, error, "fix")
-        # Steer like a car onto the kick line (lateral error fe, m) while walking
-        # forward, with sideways steps; the heading comes round to the kick's as the
-        # line is reached, and in the last few cm only sideways steps correct.
+        if n.error[0] < p.lead or close:
+            self.phase, self.in_box = Mode.STOP, 0.0
+            return n.command(0.0, 0.0, 0.0, Mode.STOP)
+        return self._steer(n, backing=False)
+
+    def _fix(self, n: _Near) -> ApproachCommand:
+        """A small error fixed stepping on the spot, for at most `fix_time`, then stop."""
+        p = self.params
+        fx, fy, fh, _ = n.smooth
+        tx, ty, th = n.box
+        self.fix_time += self.dt
+        if (abs(fx) < p.stop * tx and abs(fy) < p.stop * ty and abs(fh) < p.stop * th) \
+                or self.fix_time > p.fix_time:
+            self.phase, self.in_box = Mode.STOP, 0.0
+            return n.command(0.0, 0.0, 0.0, Mode.STOP)
+        vx_max, vy_max = self._max_speed(n.set_name)
+        x = 0.0 if abs(fx) < p.stop * tx else decel_speed(fx, p.max_decel_x, p.buffer) / vx_max
+        y = 0.0 if abs(fy) < p.stop * ty else decel_speed(fy, p.max_decel_y, p.buffer) / vy_max
+        turn = float(np.clip(p.fix_turn_gain * fh, -p.fix_max_turn, p.fix_max_turn))
+        turn = 0.0 if abs(fh) < p.stop * th else turn
+        lim = p.max_speed
+        x, y = float(np.clip(x, -0.5 * lim, 0.5 * lim)), float(np.clip(y, -lim, lim))
+        return n.command(x, y, turn, Mode.FIX)
+
+    def _steer(self, n: _Near, backing: bool) -> ApproachCommand:
+        """Creeping or backing: steer like a car onto the kick line (lateral error fe, m)
+        with sideways steps; the heading comes round to the kick's as the line is
+        reached, and in the last few cm only sideways steps correct."""
+        p = self.params
+        fx, fy, fh, fe = n.smooth
+        ty = n.box[1]
+        vx_max, vy_max = self._max_speed(n.set_name)
         ahead = max(fx, 0.0) + p.lookahead
         steer = min(1.0, max(0.0, (fx - 0.05) / 0.1))
         want = fh + steer * math.atan2(-fe, ahead)
         turn = float(np.clip(p.turn_gain * want, -p.max_turn, p.max_turn))
         y = decel_speed(fy, p.max_decel_y, p.buffer) / vy_max if abs(fy) > p.stop * ty else 0.0
         y = float(np.clip(y, -p.max_speed, p.max_speed)) * (1.0 - 0.5 * steer)
-        set_name = near_set
-        if self.phase == "back":  # backward and sideways at once trips this walk
+        set_name = n.set_name
+        if backing:  # backward and sideways at once trips this walk
             x = -p.max_speed
             y = float(np.clip(y, -0.3 * p.max_speed, 0.3 * p.max_speed))
             turn = float(np.clip(turn, -0.5 * p.max_turn, 0.5 * p.max_turn))
@@ -350,11 +424,11 @@ class Approach:
             if fx > p.fast_creep and abs(want) < math.radians(20.0) and abs(fy) < 0.05:
                 set_name = "go_to_target"  # still well short and lined up: longer steps
                 vx_max = self._max_speed(set_name)[0]
-            x = max(decel_speed(dx - p.lead, p.max_decel_x, p.buffer) / vx_max, p.creep)
+            x = max(decel_speed(n.error[0] - p.lead, p.max_decel_x, p.buffer) / vx_max, p.creep)
         # Steps shrink while the heading is far off (rough steps sway the body).
         scale = max(0.0, 1.0 - abs(want) / math.radians(45.0))
         x = float(np.clip(x, -p.max_speed, scale))
-        return ApproachCommand(x, y, turn, set_name, False, error, self.phase)
+        return n.command(x, y, turn, self.phase, set_name=set_name)
 
     def _walk(self, robot: Sequence[float], ball: Sequence[float], pose: tuple[float, float, float],
               r: tuple[float, float], g: tuple[float, float], behind: bool,
@@ -362,18 +436,17 @@ class Approach:
         """Go-to-target walk to the staging point behind the pose, or round the ball."""
         p = self.params
         wu, wv, mode = self.waypoint(r, g, behind)
-        if mode == "walk" and abs(error[2]) >= p.enter_turn:  # turned far off: turn at the staging point
+        if mode is Mode.WALK and abs(error[2]) >= p.enter_turn:  # turned far off: turn at the staging point
             wu, wv = g[0] - p.stage, g[1]
         wx, wy = _from_kick_frame(wu, wv, ball, pose[2])
         rx, ry, rh = (float(v) for v in robot[:3])
-        c, s = math.cos(rh), math.sin(rh)
-        wdx, wdy = c * (wx - rx) + s * (wy - ry), -s * (wx - rx) + c * (wy - ry)
+        wdx, wdy = Pose2(rx, ry, rh).to_local(wx, wy)
         dw = math.hypot(wdx, wdy)
         # The fast go-to-target set only for walking on ahead; turning, stepping
         # sideways and going round the ball with the steadier approach-to-kick set.
-        fast = mode == "walk" and dw > p.fast and abs(math.atan2(wdy, wdx)) < math.radians(35.0)
+        fast = mode is Mode.WALK and dw > p.fast and abs(math.atan2(wdy, wdx)) < math.radians(35.0)
         set_name = "go_to_target" if fast or "approach_to_kick" not in self.sets else "approach_to_kick"
-        if mode == "around":  # step toward the waypoint, always turning to face the ball
+        if mode is Mode.AROUND:  # step toward the waypoint, always turning to face the ball
             face: float | None = wrap(math.atan2(float(ball[1]) - ry, float(ball[0]) - rx) - rh)
             beyond, gain = math.inf, p.around_turn_gain
         else:  # to the staging point facing it; near it, turn to the kick's heading
@@ -384,7 +457,7 @@ class Approach:
         return ApproachCommand(x, y, turn, set_name, False, error, mode)
 
     def waypoint(self, r: tuple[float, float], g: tuple[float, float], behind: bool
-                 ) -> tuple[float, float, str]:
+                 ) -> tuple[float, float, ApproachMode]:
         """The next waypoint (u, v) in the kick frame (origin at the ball, u along the
         kick heading) for the robot at `r` going to the pose at `g`, and the mode.
 
@@ -401,10 +474,10 @@ class Approach:
         pu, pv = g
         su, sv = pu - p.stage, pv
         if behind:
-            return (pu, pv, "walk") if math.hypot(ru - pu, rv - pv) < p.near else (su, sv, "walk")
+            return (pu, pv, Mode.WALK) if math.hypot(ru - pu, rv - pv) < p.near else (su, sv, Mode.WALK)
         if not ball_in_path((ru, rv), (su, sv), (0.0, 0.0), clearance=p.around * 0.8) \
                 and ru < su + 0.05:
-            return su, sv, "walk"
+            return su, sv, Mode.WALK
         angle = math.atan2(rv, ru)  # the robot round the ball; pi (or -pi) is behind it
         side = 1.0 if rv >= 0.0 else -1.0
         goal = side * math.pi
@@ -412,16 +485,16 @@ class Approach:
         if dist > p.around + 0.1:  # still off the circle: to where the path touches it
             tangent = angle + side * math.acos(p.around / dist)
             if side * (goal - tangent) <= 0.0:
-                return su, sv, "walk"
-            return p.around * math.cos(tangent), p.around * math.sin(tangent), "around"
+                return su, sv, Mode.WALK
+            return p.around * math.cos(tangent), p.around * math.sin(tangent), Mode.AROUND
         step = math.radians(50.0)
         nxt = angle + side * step if abs(goal - angle) > step else goal
         radius = max(p.around, min(math.hypot(ru, rv), p.around + 0.2))
         wu, wv = radius * math.cos(nxt), radius * math.sin(nxt)
         if abs(goal - angle) <= step:  # almost behind: straight to the staging point
-            return su, sv, "walk"
-        return wu, wv, "around"
+            return su, sv, Mode.WALK
+        return wu, wv, Mode.AROUND
 
 
-__all__ = ["APPROACH_SCHEMA", "Approach", "ApproachCommand", "ApproachParams", "approach_param_paths",
-           "ball_in_path", "choose_kick", "decel_speed", "kick_cost", "kick_pose"]
+__all__ = ["APPROACH_SCHEMA", "Approach", "ApproachCommand", "ApproachMode", "ApproachParams",
+           "approach_param_paths", "ball_in_path", "choose_kick", "decel_speed", "kick_cost", "kick_pose"]

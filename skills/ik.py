@@ -34,13 +34,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from models.geometry import wrap
 from skills.kinematics import ArmGeometry, LegGeometry, LegsGeometry, leg_geometry
 
 LIMIT_TOL = 1e-9  # rad; clamping by more than this marks the target unreachable
-
-
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
 def _excess(a: float, lo: float, up: float) -> float:
@@ -94,13 +91,13 @@ def solve_leg(g: LegGeometry, foot_pos, foot_rpy, target: str = "sole") -> tuple
     # take the one inside (or nearest) the ankle roll limits.
     q6 = math.atan2(-uy, -uz)
     ryz = math.hypot(uy, uz)
-    q6b = _wrap(q6 + math.pi)
+    q6b = wrap(q6 + math.pi)
     if _excess(q6b, lo[5], up[5]) < _excess(q6, lo[5], up[5]):
         q6, ryz = q6b, -ryz
     c4, s4 = math.cos(q4), math.sin(q4)
     wx = c4 * hx + s4 * hz + kx
     wz = -s4 * hx + c4 * hz + kz
-    q5 = _wrap(math.atan2(wx, -wz) - math.atan2(ux, ryz))
+    q5 = wrap(math.atan2(wx, -wz) - math.atan2(ux, ryz))
 
     # 3. Hip: M = R Rx(-q6) Ry(q4 + q5) = R1(q1) Rx(q2) Ry(-q3); N = Rx(-tilt) M.
     c6, s6 = math.cos(q6), math.sin(q6)
@@ -172,8 +169,8 @@ def arm_point_ik(g: ArmGeometry, point) -> tuple[np.ndarray, bool]:
     # Two roll branches, q2 and pi - q2 (the roll range passes 90 degrees); in the x-z
     # plane Ry(-q1) then raises the angle atan2(z, x) by q1. Take the first in limits.
     best, best_excess = None, math.inf
-    for q2 in (math.asin(s2), _wrap(math.copysign(math.pi, s2) - math.asin(s2))):
-        q1 = _wrap(math.atan2(tz, tx) - math.atan2(bz, ax * math.cos(q2)))
+    for q2 in (math.asin(s2), wrap(math.copysign(math.pi, s2) - math.asin(s2))):
+        q1 = wrap(math.atan2(tz, tx) - math.atan2(bz, ax * math.cos(q2)))
         excess = _excess(q1, g.lower[0], g.upper[0]) + _excess(q2, g.lower[1], g.upper[1])
         if excess < best_excess:
             best, best_excess = (q1, q2), excess

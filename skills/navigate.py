@@ -14,13 +14,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from models.geometry import Pose2, rotate, wrap
 from skills.walk import WalkParams, direction_to_xy
-
-
-def wrap(a: float) -> float:
-    """Angle wrapped into [-pi, pi)."""
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
-
 
 SIDE_AT_SPEED = 0.5  # share of the side input kept while the forward input is 0.6 or more
 
@@ -71,13 +66,16 @@ class Odometry:
 
     def update(self, dx: float, dy: float, dtheta: float) -> None:
         """Add one cycle of walk odometry (torso frame)."""
-        c, s = math.cos(self.heading), math.sin(self.heading)
-        self.x += c * dx - s * dy
-        self.y += s * dx + c * dy
+        fx, fy = rotate(dx, dy, self.heading)
+        self.x += fx
+        self.y += fy
         self.heading = wrap(self.heading + dtheta)
 
     def relative(self, tx: float, ty: float) -> tuple[float, float]:
         """A field-frame point in the torso frame (m)."""
-        c, s = math.cos(self.heading), math.sin(self.heading)
-        ex, ey = tx - self.x, ty - self.y
-        return c * ex + s * ey, -s * ex + c * ey
+        return self.pose.to_local(tx, ty)
+
+    @property
+    def pose(self) -> Pose2:
+        """The dead-reckoned pose as a `Pose2` (a copy)."""
+        return Pose2(self.x, self.y, self.heading)

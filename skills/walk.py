@@ -310,10 +310,9 @@ class WalkEngine:
         sx, sy, sth = (0.0, 0.0, 0.0) if standing else (self.step[0], *self.latched)
         swing, stance = self.swing, ("r" if self.swing == "l" else "l")
         sign = {"l": 1.0, "r": -1.0}
-        # Gyro damping of the ankles: it steadies the steps and the sway after a stop,
-        # but standing on, the one-cycle-late feedback feeds the stance's own 7 Hz sway
-        # (body rate 11 -> 17-25 deg/s after a second; a keyframe kick started from it
-        # falls 5 times in 16 instead of once), so it fades out once the robot stands.
+        # Gyro damping of the ankles steadies the steps and the sway after a stop; it fades
+        # out once the robot stands, where its one-cycle-late feedback would feed the
+        # stance's own 7 Hz sway (walk_defaults.txt says what that did).
         fade = 1.0
         if standing:
             fade = min(max((STAND_DAMP_TIME + STAND_DAMP_FADE - self.stop_time) / STAND_DAMP_FADE, 0.0), 1.0)

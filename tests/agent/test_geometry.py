@@ -7,8 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from agent.geometry import camera_in_torso, field_to_team, from_polar, to_polar, wrap
+from agent.geometry import camera_in_torso, field_to_team, from_polar, to_polar
 from agent.perception import observe
+from models.geometry import wrap
 from models.rules import PlayMode
 from models.scene import Lineup
 from server.match import Match

@@ -56,8 +56,8 @@ def test_tilt_estimate_follows_a_walking_turning_torso():
     (at the skills' 5 % accelerometer pull they were 7.8 deg off: 6.0 roll, 5.0 pitch).
     Now 2.2 deg (the cycle-mean accelerometer, 5 %, the exact gyro rule); at 1 % it was
     4.3 deg, and 6.7 with the small-angle rule besides."""
-    from benchmarks.walk import new_robot
     from models.messages import Action
+    from optimization.robot import new_robot
 
     tr, mo = new_robot(0)
     wm = WorldModel("L", 1)

@@ -5,8 +5,8 @@ import mujoco
 import numpy as np
 import pytest
 
-from benchmarks.walk import new_robot
 from models.messages import Action
+from optimization.robot import new_robot
 
 WALK_S = 3.0  # s of full-speed forward walking measured, after 1 s of getting going
 

@@ -81,8 +81,8 @@ def test_fits_only_small_moves(align):
 
 @pytest.mark.parametrize("robot_type", [0, 4])
 def test_the_robot_moves_by_the_request_without_falling(robot_type):
-    from benchmarks.walk import new_robot
     from models.messages import Action
+    from optimization.robot import new_robot
 
     align = Align(robot_type)
     for move in MOVES[:3]:

@@ -5,15 +5,16 @@ import math
 import numpy as np
 import pytest
 
-from benchmarks.walk import new_robot
+from models.geometry import wrap
 from models.messages import Action
-from skills.navigate import Odometry, walk_toward, wrap
+from optimization.robot import new_robot
+from skills.navigate import Odometry, walk_toward
 
 
 def walk(t, seconds, command, stand=0.5, rng=None, set_name="go_to_target"):
     """Stand `stand` s, then walk with `set_name` (the stand is the go-to-target set's);
     returns the trainer, the robot's odometry and whether it fell. With `rng`, the start
-    joints are perturbed (`benchmarks.walk.new_robot`)."""
+    joints are perturbed (`optimization.robot.new_robot`)."""
     tr, mo = new_robot(t, rng)
     odo = Odometry()
     fell = False
