@@ -15,11 +15,11 @@ import math
 
 import numpy as np
 
-from agent.geometry import wrap
 from agent.head import HeadController
 from agent.kicker import ALIGN, DONE, KICK, LEAN, Kicker
 from agent.requests import Dive, Dribble, Kick, SkillRequest, Stand, WalkTo
 from agent.worldmodel import WorldModel
+from models.geometry import Pose2, wrap
 from models.messages import Percept
 from models.rules import CYCLE
 from skills.dive import Dive as DiveSkill
@@ -27,6 +27,7 @@ from skills.imu import TiltEstimator
 from skills.kicks import all_kicks
 from skills.navigate import walk_toward
 
+BEAM_SETTLE = 0.5  # s standing still after a beam
 STOP_DISTANCE = 0.08  # m from a WalkTo target where the robot stands
 STOP_TURN = math.radians(12.0)  # rad of heading error left when it stands
 DRIBBLE_BEHIND = 0.25  # m behind the ball where a dribble lines up
@@ -58,6 +59,7 @@ class Body:
         self.kicks_started = 0  # kicks begun (the kicker left its approach for a kick)
         self._recovering = False
         self._kick_state = None
+        self._settle_until: float | None = -1.0  # s: standing still after a beam until then
 
     @property
     def busy(self) -> bool:
@@ -71,9 +73,11 @@ class Body:
         return self._recovering or self.motion.recovering
 
     def beamed(self) -> None:
-        """The robot was moved by a beam: start the walk from standing."""
+        """The robot was moved by a beam: start the walk from standing, after standing
+        still for BEAM_SETTLE s (stepping off at once tipped robots over)."""
         self._leave_kicker()
         self.motion.reset()
+        self._settle_until = None
 
     def execute(self, request: SkillRequest, percept: Percept, world: WorldModel) -> np.ndarray:
         """Joint velocities (rad/s, league order) for this cycle."""
@@ -110,6 +114,10 @@ class Body:
               and self._may_stop()):
             self._start_kick(req, world)
             return self._kick(req, percept, world)
+        if self._settle_until is None:
+            self._settle_until = percept.time + BEAM_SETTLE
+        if percept.time < self._settle_until:
+            return self._walk(percept, world, 0.0, 0.0, 0.0)
         leaning = max(abs(self.tilt.pitch), abs(self.tilt.roll)) > LEAN
         if leaning or self._recovering or self.motion.recovering:
             v = self.motion.recover(percept)
@@ -193,9 +201,8 @@ class Body:
 
     def _walk_to(self, percept: Percept, world: WorldModel, tx: float, ty: float,
                  heading: float | None, set_name: str = "go_to_target") -> np.ndarray:
-        x, y, h = world.pose
-        c, s = math.cos(h), math.sin(h)
-        dx, dy = c * (tx - x) + s * (ty - y), -s * (tx - x) + c * (ty - y)
+        x, y, h = (float(v) for v in world.pose)
+        dx, dy = Pose2(x, y, h).to_local(tx, ty)
         dheading = None if heading is None else wrap(heading - h)
         if math.hypot(dx, dy) < STOP_DISTANCE and (dheading is None or abs(dheading) < STOP_TURN):
             return self._walk(percept, world, 0.0, 0.0, 0.0, set_name)

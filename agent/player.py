@@ -139,9 +139,9 @@ class Player:
         """The skill request of this cycle (the team decision, then the role)."""
         if view.mode == PM.GAME_OVER:
             return Stand()
-        if view.mode in BEAM_MODES:  # beamed: wait for the kickoff facing the ball
+        if view.mode in BEAM_MODES:  # beamed facing the center: wait for the kickoff
             self._not_on_ball()
-            return Stand(heading=None if view.ball is None else self._face(view.pose, view.ball))
+            return Stand()
         if view.ball is None:
             self._not_on_ball()
             return Stand(heading=view.pose[2] + 1.0)  # turn to find the ball
@@ -326,7 +326,7 @@ class Player:
             return -0.17, 0.0, 0.0
         pos = st.role_positions(self.formation, np.zeros(2))[st.FIELD_ROLES.index(role)]
         x, y = st.own_half(pos)
-        return float(x), float(y), 0.0
+        return float(x), float(y), math.atan2(-y, -x)  # facing the center spot
 
     def _listen(self, now: float) -> None:
         for msg in self.world.heard:

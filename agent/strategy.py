@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from agent.geometry import wrap
 from formations.delaunay import Formation
 from formations.scram import assign_costs
 from models import field as fld
+from models.geometry import wrap
 from models.rules import FREE_KICK_DISTANCE, PlayMode
 
 GOALIE = 1  # the only shirt number with a role of its own
