@@ -51,7 +51,7 @@ def register(subparsers) -> dict:
     p = subparsers.add_parser("batch", help="many matches: mean goal difference +- standard error",
                               description="Play a batch of seeded matches between two teams.",
                               epilog=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--home", default="posture", metavar="TEAM", help="team A (default posture)")
+    p.add_argument("--home", default="villa", metavar="TEAM", help="team A (default villa)")
     p.add_argument("--away", default="posture", metavar="TEAM", help="team B (default posture)")
     p.add_argument("--games", type=_games, required=True, metavar="N", help="number of games")
     p.add_argument("--half-time", type=half_time, default=300.0, metavar="SECONDS",

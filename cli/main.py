@@ -44,8 +44,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=Parser)
 
     m = sub.add_parser("match", help="play one headless match and print the score")
-    m.add_argument("--home", default="posture", help=f"left team ({', '.join(teams.names())})")
-    m.add_argument("--away", default="posture", help="right team")
+    m.add_argument("--home", default="villa", help=f"left team ({', '.join(teams.names())}; default villa)")
+    m.add_argument("--away", default="villa", help="right team (default villa)")
     m.add_argument("--half-time", type=half_time, default=300.0, metavar="SECONDS",
                    help="game seconds per half (default 300)")
     m.add_argument("--seed", type=seed, default=0, help="random seed (default 0)")
