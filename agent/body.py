@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -44,11 +45,16 @@ SYNC_HEADING = math.radians(15.0)  # rad ... or turned this much
 
 
 class Body:
-    """Skills of one robot behind the requests of `agent.requests`."""
+    """Skills of one robot behind the requests of `agent.requests`.
 
-    def __init__(self, robot_type: int) -> None:
+    kick_box: the kicks' tolerance boxes (where the approach must stop) scaled by this."""
+
+    def __init__(self, robot_type: int, kick_box: float = 1.0) -> None:
         self.robot_type = robot_type
         self.kicks = all_kicks(robot_type)
+        if kick_box != 1.0:  # a wider box to stop in: fewer aligns, a less exact kick
+            for k in self.kicks.values():
+                k.spec = replace(k.spec, tolerance=tuple(kick_box * t for t in k.spec.tolerance))
         self.kicker = Kicker(robot_type, self.kicks)
         self.motion = self.kicker.motion
         self.tilt = TiltEstimator()

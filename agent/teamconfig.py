@@ -24,6 +24,7 @@ class TeamConfig:
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     marking: bool = True  # mark attackers when the opponents have the ball
     kick_anticipation: bool = True  # run to where a teammate's kick will land
+    kick_box: float = 1.0  # the kicks' stopping boxes scaled by this (wider: quicker, less exact)
     formation_shift: float = 0.0  # m added to every formation x (+: offensive, -: defensive)
 
 
