@@ -40,6 +40,7 @@ BALL_MEMORY = 6.0  # s: an older ball estimate is no ball
 KICK_TARGET_MEMORY = 3.0  # s a heard kick target is run to
 RETARGET = 1.0  # s between choices of how to move the ball while dribbling
 KICK_PLAN_TIME = 15.0  # s a kick target is kept while the ball stays put (the approach restarts on a new one)
+RESTART_HURRY = 9.0  # s into our restart (of the league's 15) after which the ball is dribbled
 REPLAN_MOVE = 0.5  # m the ball moves before the on-ball player plans again
 DECIDE_PERIOD = 0.1  # s between team decisions (the body plays the last request between)
 KICKOFF_ANGLE = math.radians(44.0)  # the kickoff pass goes this far to the side (ik_45_out)
@@ -196,6 +197,9 @@ class Player:
             return WalkTo(*self._clip(spot), heading=self._face(spot, ball))
         if view.mode in KICK_OFFS:
             return self._kickoff(view)
+        if (view.ours and view.mode != PM.PLAY_ON and view.time - self._mode_since > RESTART_HURRY
+                and not self.body.busy):  # the restart's time runs out: touch it now
+            return Dribble(tuple(st.dribble_target(view)))
         if self.body.busy and self._kick is not None:
             return self._kick[2]
         if self._kick is not None and float(np.hypot(*(self._kick[1] - ball))) < REPLAN_MOVE:

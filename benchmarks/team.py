@@ -8,8 +8,9 @@ prints one JSON line per match and one summary line per kind of match:
 * voting synchrony: the share of decision cycles in which every field player of a
   team follows the same role mapping, with voting and without (one villa against
   posture match each, `--sync-half-time` s halves);
-* on the ball: time from becoming the on-ball player to the team's next touch of the
-  ball (median, p90), kicks begun and kicks that moved the ball at least 1 m;
+* on the ball: time from becoming the on-ball player to that player's first touch of
+  the ball (median, p90; episodes in which the role moved on first are counted apart),
+  kicks begun and kicks that moved the ball at least 1 m;
 * speed: real-time factor, mean and p99 wall time of one agent's cycle (villa players).
 
     python -m benchmarks.team [--games 4] [--half-time 300] [--workers 2] [--seed 0]
@@ -70,7 +71,8 @@ def play(home: str, away: str, seed: int, half_time: float, voting: bool = True)
     sides = {i: w.players[i].side for i in villa}
     on_since: dict[int, float | None] = {i: None for i in villa}
     waits: list[float] = []
-    pending: dict[str, list[float]] = {"L": [], "R": []}  # on-ball starts awaiting a touch, per team
+    episode: dict[int, float | None] = {i: None for i in villa}  # when each became on-ball, untouched
+    lost = 0
     kicks = {"L": [0, 0], "R": [0, 0]}  # begun, moved the ball
     kick_watch: list[tuple[float, str, np.ndarray]] = []
     last_state = {i: None for i in villa}
@@ -81,16 +83,19 @@ def play(home: str, away: str, seed: int, half_time: float, voting: bool = True)
         m.step()
         now = w.time
         counts = dict(m.referee.touches)
-        for team in ("L", "R"):
-            if counts[team] > touched[team] and pending[team]:
-                waits.extend(now - t for t in pending[team])
-                pending[team] = []
+        toucher = m.referee.last_touch if counts != touched else None
         touched = counts
         for i in villa:
             a = players[i]
             s = a.on_ball_since
             if s is not None and on_since[i] is None:
-                pending[sides[i]].append(s)
+                episode[i] = s
+            elif s is None and episode[i] is not None:
+                lost += 1  # the role went to another player (or the play stopped) before a touch
+                episode[i] = None
+            if toucher == i and episode[i] is not None:
+                waits.append(now - episode[i])
+                episode[i] = None
             on_since[i] = s
             k = a.body.kicker.state if a.body.kicking else None
             if k == KICK and last_state[i] != KICK:
@@ -123,7 +128,7 @@ def play(home: str, away: str, seed: int, half_time: float, voting: bool = True)
         "touches": {t: r["stats"][t]["ball_touches"] for t in "LR"},
         "possession": {t: r["stats"][t]["possession_share"] for t in "LR"},
         "kicks_begun": {t: kicks[t][0] for t in "LR"}, "kicks_moved_ball": {t: kicks[t][1] for t in "LR"},
-        "on_ball_to_touch_s": [round(x, 2) for x in waits],
+        "on_ball_to_touch_s": [round(x, 2) for x in waits], "on_ball_lost_before_touch": lost,
         "voting_sync": {t: round(sync[t][0] / sync[t][1], 3) if sync[t][1] else None for t in "LR"},
         "agent_us_mean": round(1e6 * float(np.mean(times)), 1),
         "agent_us_p99": round(1e6 * float(np.percentile(times, 99)), 1),
@@ -152,6 +157,8 @@ def summary(kind: str, rows: list[dict]) -> dict:
         "kicks_moved_ball_per_match": round(float(np.mean([r["kicks_moved_ball"]["L"] for r in rows])), 1),
         "on_ball_to_touch_median_s": round(float(np.median(waits)), 2) if waits else None,
         "on_ball_to_touch_p90_s": round(float(np.percentile(waits, 90)), 2) if waits else None,
+        "on_ball_touched_share": round(len(waits) / max(1, len(waits) + sum(r["on_ball_lost_before_touch"]
+                                                                          for r in rows)), 3),
         "real_time_factor_mean": round(float(np.mean([r["real_time_factor"] for r in rows])), 2),
         "agent_us_mean": round(float(np.mean([r["agent_us_mean"] for r in rows])), 1),
         "agent_us_p99": round(float(np.max([r["agent_us_p99"] for r in rows])), 1),
