@@ -151,7 +151,9 @@ class Player:
         if self.unum == st.GOALIE:
             self.role = "goalie"
             return self._on_ball_request(view) if on_ball == self.unum else self._goalie(view)
-        self.vote = st.assign_roles(view, targets, self.config.assignment, on_ball)
+        obstacles = st.role_obstacles(view, on_ball) if self.config.path_cost else None
+        self.vote = st.assign_roles(view, targets, self.config.assignment, on_ball,
+                                    nearest_stopper=self.config.nearest_stopper, obstacles=obstacles)
         mapping = self.votes.winner(self.vote) if self.config.voting else self.vote
         self.mapping = mapping
         role = st.FIELD_ROLES[mapping[self.unum - 2]]

@@ -132,23 +132,88 @@ def role_positions(formation: Formation, ball: np.ndarray, shift: float = 0.0) -
     return out
 
 
-def walking_cost(m: Mate, target: np.ndarray) -> float:
+def walking_cost(m: Mate, target: np.ndarray, obstacles: np.ndarray | None = None) -> float:
     """Cost (m) of walking to a target: distance, a turn toward it, and a fall (SCRAM's
-    path cost with the robot's state)."""
+    path cost with the robot's state); with `obstacles` (k, 3) disks (x, y, radius),
+    the walk goes round them (PtW section 6's PathCost: `detour`)."""
     dx, dy = target[0] - m.x, target[1] - m.y
     dist = math.hypot(dx, dy)
     turn = abs(wrap(math.atan2(dy, dx) - m.heading)) / math.pi if dist > FACE_BALL_WITHIN else 0.0
-    return dist + TURN_COST * turn + (FALLEN_PENALTY if m.fallen else 0.0)
+    cost = dist + TURN_COST * turn + (FALLEN_PENALTY if m.fallen else 0.0)
+    if obstacles is not None and len(obstacles):
+        cost += detour((m.x, m.y), target, obstacles)
+    return cost
+
+
+BALL_RADIUS_PATH = 0.3  # m kept from the ball by a walk that must not push it (PathCost)
+ON_BALL_RADIUS_PATH = COLLISION  # m kept from the on-ball player (PathCost)
+
+
+def path_obstacles(ball: np.ndarray | None, on_ball: Sequence[float] | None) -> np.ndarray:
+    """(k, 3) disks a role walk goes round (PathCost): the ball and the on-ball player,
+    one enclosing disk when the two overlap."""
+    disks = []
+    if ball is not None:
+        disks.append((float(ball[0]), float(ball[1]), BALL_RADIUS_PATH))
+    if on_ball is not None:
+        disks.append((float(on_ball[0]), float(on_ball[1]), ON_BALL_RADIUS_PATH))
+    if len(disks) == 2:
+        (ax, ay, ar), (bx, by, br) = disks
+        d = math.hypot(bx - ax, by - ay)
+        if d < ar + br:  # overlapping: the smallest disk holding both
+            if d + ar <= br or d + br <= ar:
+                disks = [disks[0] if ar >= br else disks[1]]
+            else:
+                r = (d + ar + br) / 2
+                u = (r - ar) / d
+                disks = [(ax + (bx - ax) * u, ay + (by - ay) * u, r)]
+    return np.array(disks, dtype=float).reshape(-1, 3)
+
+
+def role_obstacles(view: TeamView, on_ball: int | None) -> np.ndarray:
+    """`path_obstacles` of a view: its ball and the on-ball player where known."""
+    at = next(((m.x, m.y) for m in view.team() if m.unum == on_ball), None)
+    return path_obstacles(view.ball, at)
+
+
+def detour(start: Sequence[float], goal: Sequence[float], disks: np.ndarray) -> float:
+    """Extra length (m) of walking from `start` to `goal` round disks (k, 3) over the
+    straight line: for each disk the segment cuts, the shortest path round that one
+    disk (two tangents and an arc) less the chord; the disks add up (exact for one
+    disk, an estimate for several). A start or goal inside a disk ignores it."""
+    px, py = float(start[0]), float(start[1])
+    tx, ty = float(goal[0]), float(goal[1])
+    sx, sy = tx - px, ty - py
+    seg2 = sx * sx + sy * sy
+    straight = math.sqrt(seg2)
+    extra = 0.0
+    for cx, cy, r in np.asarray(disks, dtype=float).reshape(-1, 3):
+        dp = math.hypot(px - cx, py - cy)
+        dt = math.hypot(tx - cx, ty - cy)
+        if dp <= r or dt <= r or seg2 < 1e-12:
+            continue
+        s = min(max(((cx - px) * sx + (cy - py) * sy) / seg2, 0.0), 1.0)
+        if math.hypot(px + s * sx - cx, py + s * sy - cy) >= r:
+            continue  # the straight walk clears it
+        angle = abs(wrap(math.atan2(py - cy, px - cx) - math.atan2(ty - cy, tx - cx)))
+        arc = max(angle - math.acos(r / dp) - math.acos(r / dt), 0.0)
+        extra += math.sqrt(dp * dp - r * r) + math.sqrt(dt * dt - r * r) + r * arc - straight
+    return max(extra, 0.0)
 
 
 def assign_roles(view: TeamView, targets: np.ndarray, method: str = "mmd-msd2",
-                 on_ball: int | None = None, all_known: bool = False) -> tuple[int, ...]:
+                 on_ball: int | None = None, all_known: bool = False,
+                 nearest_stopper: bool = False, obstacles: np.ndarray | None = None) -> tuple[int, ...]:
     """This player's vote: the role index (into FIELD_ROLES) of each of shirt numbers 2..11.
 
     targets: (10, 2) role positions. The on-ball player takes role 0; the other
     known field players share the next roles by `method` (SCRAM on walking
     cost); unknown shirt numbers get the roles left over, in order. `method`
-    "static" gives shirt number 2 + k role k."""
+    "static" gives shirt number 2 + k role k. With `nearest_stopper` (PtW 6's
+    NearestStopper) the supporter role (1, directly behind the ball: the paper's
+    stopper) first goes to the known field player of least walking cost to it, and
+    `method` shares the rest. `obstacles` (k, 3) disks make the walking cost go
+    round them (PathCost; `path_obstacles`)."""
     if method == "static":
         return tuple(range(len(FIELD_UNUMS)))
     known = [m for m in view.team() if m.unum in FIELD_UNUMS]
@@ -158,10 +223,17 @@ def assign_roles(view: TeamView, targets: np.ndarray, method: str = "mmd-msd2",
         roles[on_ball - 2] = 0
         free_roles.remove(0)
         known = [m for m in known if m.unum != on_ball]
+    stopper = FIELD_ROLES.index("supporter")
+    if nearest_stopper and known and stopper in free_roles:
+        costs = [walking_cost(m, targets[stopper], obstacles) for m in known]
+        nearest = known[int(np.argmin(costs))]  # ties: the lower shirt number
+        roles[nearest.unum - 2] = stopper
+        free_roles.remove(stopper)
+        known = [m for m in known if m is not nearest]
     k = min(len(known), len(free_roles))
     if k:
         use = free_roles[:k]
-        cost = np.array([[walking_cost(m, targets[r]) for r in use] for m in known[:k]])
+        cost = np.array([[walking_cost(m, targets[r], obstacles) for r in use] for m in known[:k]])
         pick = assign_costs(cost, method)
         for m, j in zip(known[:k], pick):
             roles[m.unum - 2] = use[int(j)]
@@ -359,6 +431,8 @@ def dive_for(ball: np.ndarray | None, velocity: np.ndarray, me: Sequence[float],
 
 __all__ = [
     "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "assign_roles", "avoid", "closeness",
-    "dive_for", "dribble_target", "facing", "goalie_position", "keep_away", "kick_score", "on_ball_player",
-    "opponent_near_ball", "own_half", "pass_target", "role_positions", "shot_target", "walking_cost",
+    "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away", "kick_score",
+    "on_ball_player",
+    "opponent_near_ball", "own_half", "pass_target", "path_obstacles", "role_obstacles",
+    "role_positions", "shot_target", "walking_cost",
 ]

@@ -26,8 +26,59 @@ class TeamConfig:
     kick_anticipation: bool = True  # run to where a teammate's kick will land
     kick_box: float = 1.0  # the kicks' stopping boxes scaled by this (wider: quicker, less exact)
     formation_shift: float = 0.0  # m added to every formation x (+: offensive, -: defensive)
+    nearest_stopper: bool = False  # the supporter role goes to the nearest field player first (PtW 6)
+    path_cost: bool = False  # role costs walk round the ball and the on-ball player (PtW 6)
 
 
 VILLA = TeamConfig()
 
-__all__ = ["VILLA", "TeamConfig"]
+# "Positioning to Win" section 6's variants of the base team (Table 2), and a few more.
+# Names are matched case-insensitively (`variant`); the team spec is `villa:NAME`.
+VARIANTS: dict[str, TeamConfig] = {
+    "NoCollAvoid": TeamConfig(collision_avoidance=False),
+    "AllBall": TeamConfig(all_ball=True),
+    "NoTeamwork": TeamConfig(all_ball=True, collision_avoidance=False),
+    "NoCommunication": TeamConfig(communication=False, voting=False),
+    "Static": TeamConfig(assignment="static"),
+    "Defensive": TeamConfig(formation="defensive.formation"),
+    "Offensive": TeamConfig(formation="offensive.formation"),
+    "Boxes": TeamConfig(formation="boxes.formation"),
+    "NearestStopper": TeamConfig(nearest_stopper=True),
+    "PathCost": TeamConfig(path_cost=True),
+    "PositiveCombo": TeamConfig(formation="offensive.formation", path_cost=True, nearest_stopper=True),
+    # not in the paper's table
+    "NoVoting": TeamConfig(voting=False),  # communication on, each follows its own mapping
+    "DribbleOnly": TeamConfig(kicks=False),
+    "KickOnly": TeamConfig(dribble=False),
+}
+
+# The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and
+# its standard error over 100 ten-minute games.
+PAPER_TABLE2: dict[str, tuple[float, float]] = {
+    "PositiveCombo": (0.33, 0.07), "Offensive": (0.21, 0.09), "AllBall": (0.09, 0.08),
+    "PathCost": (0.07, 0.07), "NearestStopper": (0.01, 0.07), "Defensive": (-0.05, 0.05),
+    "Static": (-0.19, 0.07), "NoCollAvoid": (-0.21, 0.08), "NoCommunication": (-0.30, 0.06),
+    "NoTeamwork": (-1.10, 0.11), "Boxes": (-1.38, 0.11),
+}
+
+
+class UnknownVariant(KeyError):
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+def variant_name(name: str) -> str:
+    """The canonical spelling of a variant's name (case-insensitive); UnknownVariant
+    (one line listing the variants) for none."""
+    for known in VARIANTS:
+        if known.lower() == name.strip().lower():
+            return known
+    raise UnknownVariant(f"unknown villa variant {name!r}; variants: {', '.join(VARIANTS)}")
+
+
+def variant(name: str) -> TeamConfig:
+    """The TeamConfig of variant `name` (case-insensitive)."""
+    return VARIANTS[variant_name(name)]
+
+
+__all__ = ["PAPER_TABLE2", "VARIANTS", "VILLA", "TeamConfig", "UnknownVariant", "variant", "variant_name"]

@@ -11,6 +11,7 @@ from cli import teams
 from cli.args import OutputError, check_writable, checked, half_time, seed
 
 EXIT_USAGE = 2
+EXIT_WORSE = 3  # --against: significantly worse than the baseline
 MAX_GAMES = 1_000_000
 MAX_WORKERS = 1024
 
@@ -26,10 +27,16 @@ DIR/summary.json the summary printed at the end. A killed batch continues with
 the same command and --resume, playing only the missing games. A game that
 fails is an error row (its seed and the error) and the batch goes on.
 
+Regression: --save-baseline FILE stores the batch's goal difference (n, mean, sd,
+standard error, settings, commit) as the last accepted team's; --against FILE
+compares the batch with a stored one by Welch's two-sample t-test, one-sided
+(is the new mean lower?), and exits with status 3 when it is, at p < 0.05.
+
 examples:
   soccer batch --home posture --away posture --games 20 --half-time 10 --out runs/pp
   soccer batch --home mypkg.team:make_agent --away posture --games 100 --out runs/mine --resume
   soccer batch --home posture --away posture --games 200 --scheduler tcp://10.0.0.5:8786 --out runs/big
+  soccer batch --home villa --away posture --games 100 --out runs/v --against base.json
 """
 
 _games = checked(int, "expected a whole number of games", lambda n: 1 <= n <= MAX_GAMES,
@@ -68,6 +75,11 @@ def register(subparsers) -> dict:
     p.add_argument("--resume", action="store_true", help="continue the batch in DIR")
     p.add_argument("--logs", action="store_true", help="keep every game's match log in DIR/logs/")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--against", type=Path, metavar="BASELINE.json",
+                   help="exit 3 when the mean goal difference is significantly below this baseline's "
+                        "(Welch, one-sided, p < 0.05)")
+    p.add_argument("--save-baseline", type=Path, metavar="FILE",
+                   help="write this batch's goal difference as a baseline (atomically)")
     return {"batch": cmd_batch}
 
 
@@ -76,7 +88,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     import time
 
     from optimization.executor import ExecutorFactory
-    from server.batch import BatchError, BatchSettings, prepare, run_batch
+    from server.batch import BatchError, BatchSettings, prepare, read_baseline, run_batch
 
     settings = BatchSettings(args.home, args.away, args.half_time, args.seed, args.home_size,
                              args.away_size)
@@ -85,6 +97,9 @@ def cmd_batch(args: argparse.Namespace) -> int:
             teams.factory(spec)  # a bad team fails here, not in every game
         check_writable(args.out, "--out", directory=True)
         prepare(settings, args.out, args.resume)
+        baseline = read_baseline(args.against) if args.against is not None else None
+        if args.save_baseline is not None:
+            check_writable(args.save_baseline, "--save-baseline")
     except (teams.UnknownTeam, OutputError, BatchError) as exc:
         print(f"soccer batch: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
@@ -116,7 +131,33 @@ def cmd_batch(args: argparse.Namespace) -> int:
         if "error" in r:
             print(f"  game {r['game']} (seed {r['seed']}) failed: {r['error']}")
     print(f"results: {args.out / 'games.jsonl'}, {args.out / 'summary.json'}")
-    return 0
+    return regression(summary, baseline, args.against, args.save_baseline)
+
+
+def regression(summary: dict, baseline: dict | None, against: Path | None, save: Path | None) -> int:
+    """--save-baseline and --against: print the comparison; the exit status."""
+    from server.batch import against as compare_with
+    from server.batch import baseline_stats, describe_dict, save_baseline, settings_mismatch
+
+    status = 0
+    if baseline is not None:
+        print(f"against baseline {against} ({baseline.get('commit', 'unknown commit')}, "
+              f"{baseline.get('created', 'undated')}):")
+        for diff in settings_mismatch(baseline, summary):
+            print(f"  warning: {diff}")
+        try:
+            result = compare_with(describe_dict(summary["goal_difference"]), baseline_stats(baseline))
+        except ValueError as exc:
+            print(f"soccer batch: error: {exc}", file=sys.stderr)
+            status = EXIT_USAGE
+        else:
+            print("\n".join("  " + line for line in result.text().splitlines()))
+            if result.worse:
+                status = EXIT_WORSE
+    if save is not None:
+        save_baseline(save, summary)
+        print(f"baseline written: {save}")
+    return status
 
 
 def format_summary(s: dict) -> str:

@@ -1,4 +1,5 @@
-"""Teams by name, or by spec `package.module:factory`: each a factory
+"""Teams by name, by villa variant `villa:NAME` (`agent.teamconfig.VARIANTS`, any
+case), or by spec `package.module:factory`: each a factory
 (side, unum, robot_type, seed) -> agent."""
 
 from __future__ import annotations
@@ -28,10 +29,28 @@ def names() -> list[str]:
     return sorted(TEAMS)
 
 
+def variants() -> list[str]:
+    """The villa variants' names (`villa:NAME`)."""
+    from agent.teamconfig import VARIANTS
+    return list(VARIANTS)
+
+
+def _variant(name: str) -> Callable:
+    from agent.teamconfig import UnknownVariant
+    from agent.variants import villa_variant
+    try:
+        return villa_variant(name)
+    except UnknownVariant as exc:
+        raise UnknownTeam(str(exc)) from None
+
+
 def factory(spec: str) -> Callable:
-    """The agent factory of team `spec`: a registered name, or `package.module:factory`
-    (a callable (side, unum, robot_type, seed) -> agent). A bad one raises UnknownTeam
-    with one line saying why."""
+    """The agent factory of team `spec`: a registered name, a villa variant `villa:NAME`
+    (case-insensitive), or `package.module:factory` (a callable (side, unum, robot_type,
+    seed) -> agent). A bad one raises UnknownTeam with one line saying why."""
+    head, sep, tail = spec.partition(":")
+    if sep and head.strip().lower() == "villa":
+        return _variant(tail)
     if ":" not in spec:
         if spec not in TEAMS:
             raise UnknownTeam(f"unknown team {spec!r}; known teams: {', '.join(names())}"

@@ -439,3 +439,128 @@ def _shutdown(executor: cf.Executor, cancel: bool = False) -> None:
         executor.shutdown(wait=not cancel, cancel_futures=cancel)
     except TypeError:  # Dask's executor has no cancel_futures
         executor.shutdown(wait=not cancel)
+
+
+# ----------------------------------------------------------------------- baselines
+
+BASELINE_KIND = "nao-soccer batch baseline"
+ALPHA = 0.05  # one-sided significance of "worse than the baseline"
+
+
+def make_baseline(summary: dict, note: str = "") -> dict:
+    """A baseline (the last accepted team's goal difference) from a batch summary."""
+    gd = summary["goal_difference"]
+    out = {"kind": BASELINE_KIND, "teams": summary["teams"], "half_time": summary["half_time"],
+           "seed": summary["seed"], "sizes": summary["sizes"], "games": summary["played"],
+           "goal_difference": {k: gd[k] for k in ("n", "mean", "sd", "se")},
+           "wins": summary["wins"], "draws": summary["draws"], "losses": summary["losses"],
+           "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), **provenance()}
+    if note:
+        out["note"] = note
+    return out
+
+
+def save_baseline(path: str | os.PathLike, summary: dict, note: str = "") -> dict:
+    """Write the baseline of `summary` to `path` atomically and return it."""
+    from server.files import write_json
+
+    base = make_baseline(summary, note)
+    write_json(path, base)
+    return base
+
+
+def read_baseline(path: str | os.PathLike) -> dict:
+    """A stored baseline; BatchError (one line) when it is missing or malformed."""
+    path = Path(path)
+    try:
+        base = json.loads(path.read_text())
+    except OSError as exc:
+        raise BatchError(f"cannot read baseline {path}: {exc.strerror or exc}") from None
+    except ValueError:
+        raise BatchError(f"baseline {path} is not valid JSON") from None
+    if not isinstance(base, dict) or base.get("kind") != BASELINE_KIND:
+        raise BatchError(f"{path} is not a batch baseline (no \"kind\": {BASELINE_KIND!r})")
+    try:
+        baseline_stats(base)
+    except (KeyError, TypeError, ValueError):
+        raise BatchError(f"baseline {path} has no goal_difference n, mean and sd") from None
+    return base
+
+
+def describe_dict(gd: dict) -> Stats:
+    """Stats from their dict (a summary's goal_difference)."""
+    ci = gd.get("ci95")
+    return Stats(int(gd["n"]), gd["mean"], gd.get("sd"), gd.get("se"), tuple(ci) if ci else None)
+
+
+def baseline_stats(base: dict) -> Stats:
+    """The goal-difference statistics a baseline stores."""
+    gd = base["goal_difference"]
+    n = int(gd["n"])
+    mean = None if gd["mean"] is None else float(gd["mean"])
+    sd = None if gd.get("sd") is None else float(gd["sd"])
+    se = sd / math.sqrt(n) if sd is not None and n > 0 else None
+    return Stats(n, mean, sd, se, None)
+
+
+@dataclass(frozen=True)
+class Regression:
+    """A batch against a baseline: is its mean goal difference significantly worse?"""
+
+    new: Stats
+    base: Stats
+    t: float | None
+    df: float | None
+    p: float | None  # one-sided: P(a t this low | the means are equal)
+    worse: bool
+    alpha: float = ALPHA
+    test: str = "Welch's two-sample t-test, one-sided (new mean < baseline mean)"
+    reason: str = ""  # why there is no p where there is none
+
+    def text(self) -> str:
+        def fmt(s: Stats) -> str:
+            sd = "-" if s.sd is None else f"{s.sd:.3f}"
+            se = "-" if s.se is None else f"{s.se:.3f}"
+            mean = "-" if s.mean is None else f"{s.mean:+.3f}"
+            return f"{mean} (se {se}, sd {sd}, n {s.n})"
+        lines = [f"goal difference: new {fmt(self.new)}, baseline {fmt(self.base)}"]
+        if self.t is None:
+            lines.append(f"{self.test}: p = {self.p:g}, {self.reason}")
+        else:
+            lines.append(f"{self.test}: t = {self.t:+.3f}, df = {self.df:.1f}, p = {self.p:.4f}")
+        verdict = "WORSE than the baseline" if self.worse else "not significantly worse than the baseline"
+        lines.append(f"verdict at p < {self.alpha:g}: {verdict}")
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
+        return {"new": self.new.to_dict(), "baseline": self.base.to_dict(), "t": self.t, "df": self.df,
+                "p": self.p, "worse": self.worse, "alpha": self.alpha, "test": self.test,
+                "reason": self.reason}
+
+
+def against(new: Stats, base: Stats, alpha: float = ALPHA) -> Regression:
+    """Is `new`'s mean significantly below `base`'s (Welch, one-sided, p < alpha)?
+    Needs n >= 2 on both sides (ValueError otherwise). Two samples without any spread
+    compare their means exactly (p 0 when lower, 1 otherwise)."""
+    from scipy import stats as st
+
+    if new.n < 2 or base.n < 2 or new.sd is None or base.sd is None:
+        raise ValueError(f"a comparison with the baseline needs at least 2 games on each side "
+                         f"(new {new.n}, baseline {base.n})")
+    vn, vb = new.sd ** 2 / new.n, base.sd ** 2 / base.n
+    if vn + vb == 0.0:
+        lower = new.mean < base.mean
+        return Regression(new, base, None, None, 0.0 if lower else 1.0, lower, alpha,
+                          reason="no spread in either sample: the means compared exactly")
+    c = compare(new, base)
+    p = float(st.t.cdf(c.t, c.df))
+    return Regression(new, base, c.t, c.df, p, p < alpha, alpha)
+
+
+def settings_mismatch(base: dict, summary: dict) -> list[str]:
+    """How a batch's settings differ from its baseline's (teams, half time, sizes)."""
+    out = []
+    for key in ("teams", "half_time", "sizes"):
+        if base.get(key) != summary.get(key):
+            out.append(f"{key} {base.get(key)!r} in the baseline, {summary.get(key)!r} now")
+    return out
