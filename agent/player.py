@@ -197,10 +197,12 @@ class Player:
             self._kick = None
             spot = st.keep_away(np.array(view.pose[:2]), ball)
             return WalkTo(*self._clip(spot), heading=self._face(spot, ball))
+        if not self.config.kicks and not self.config.dribble:
+            return Stand()  # a team that may not play the ball (a broken baseline for tests)
         if view.mode in KICK_OFFS:
             return self._kickoff(view)
         if (view.ours and view.mode != PM.PLAY_ON and view.time - self._mode_since > RESTART_HURRY
-                and not self.body.busy):  # the restart's time runs out: touch it now
+                and self.config.dribble and not self.body.busy):  # the restart's time runs out: touch it now
             return Dribble(tuple(st.dribble_target(view)))
         if self.body.busy and self._kick is not None:
             return self._kick[2]
