@@ -40,6 +40,7 @@ BALL_MEMORY = 6.0  # s: an older ball estimate is no ball
 KICK_TARGET_MEMORY = 3.0  # s a heard kick target is run to
 RETARGET = 1.0  # s between choices of how to move the ball while dribbling
 KICK_PLAN_TIME = 15.0  # s a kick target is kept while the ball stays put (the approach restarts on a new one)
+KICKOFF_HANDOFF = 8.0  # s after our kickoff in which its taker leaves the ball to the others
 RESTART_HURRY = 9.0  # s into our restart (of the league's 15) after which the ball is dribbled
 REPLAN_MOVE = 0.5  # m the ball moves before the on-ball player plans again
 DECIDE_PERIOD = 0.1  # s between team decisions (the body plays the last request between)
@@ -79,6 +80,8 @@ class Player:
         self.distances = sorted({round(k.spec.distance, 1) for k in self.body.kicks.values()})
         self.on_ball_since: float | None = None  # s: when this player last became the on-ball player
         self._decided: float | None = None  # s, time of the last decision
+        self._kickoff_taker: int | None = None  # our last kickoff's taker ...
+        self._kickoff_until = -math.inf  # s: ... who leaves the ball to the others until then
         self._marked: np.ndarray | None = None  # opponents marked at the last decision
         self._selection = None  # the roles marking replaced at the last decision
 
@@ -182,7 +185,13 @@ class Player:
         return plan.targets
 
     def _on_ball(self, view: st.TeamView) -> int | None:
-        return st.on_ball_player(view)
+        after_kickoff = view.mode not in KICK_OFFS and view.time < self._kickoff_until
+        exclude = self._kickoff_taker if after_kickoff else None
+        on_ball = st.on_ball_player(view, exclude)
+        if view.mode in KICK_OFFS and view.ours:
+            self._kickoff_taker = on_ball  # who plays our kickoff: not the next touch (the rules)
+            self._kickoff_until = view.time + KICKOFF_HANDOFF
+        return on_ball
 
     def _not_on_ball(self) -> None:
         self._kick = None

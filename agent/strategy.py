@@ -106,14 +106,15 @@ def in_own_penalty_area(p: Sequence[float], margin: float = 0.0) -> bool:
             and abs(p[1]) < fld.PENALTY_WIDTH / 2 + margin)
 
 
-def on_ball_player(view: TeamView) -> int | None:
-    """Shirt number of the player of least closeness; the goalie only inside its box."""
+def on_ball_player(view: TeamView, exclude: int | None = None) -> int | None:
+    """Shirt number of the player of least closeness; the goalie only inside its box;
+    `exclude` never (the kickoff's taker until another player has played the ball)."""
     if view.ball is None:
         return None
     best, best_c = None, math.inf
     goalie_may = in_own_penalty_area(view.ball)
     for m in view.team():
-        if m.unum == GOALIE and not goalie_may:
+        if (m.unum == GOALIE and not goalie_may) or m.unum == exclude:
             continue
         c = closeness(m.x, m.y, m.fallen, view.ball)
         if c < best_c - 1e-9:

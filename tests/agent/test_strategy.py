@@ -154,3 +154,10 @@ def test_dribble_when_an_upright_opponent_is_near_the_ball():
     v = view(ball=(0.0, 0.0), opponents=[(1.5, 0.0)])
     assert st.opponent_near_ball(v, 2.0)
     assert not st.opponent_near_ball(v, 1.0)
+
+
+def test_the_kickoff_taker_can_be_left_out():
+    near = st.Mate(3, -2.0, 2.0, 0.0)
+    v = view(me=(-0.2, 0.0, 0.0), ball=(1.5, 1.5), mates=(near,), unum=2)
+    assert st.on_ball_player(v) == 2
+    assert st.on_ball_player(v, exclude=2) == 3
