@@ -70,3 +70,10 @@ def check_writable(path: str | os.PathLike, what: str = "output", directory: boo
         raise OutputError(f"cannot write {what} {p}: {parent} is not a directory")
     if not os.access(parent, os.W_OK | os.X_OK):
         raise OutputError(f"cannot write {what} {p}: {parent} is not writable")
+
+
+def scheduler(value: str) -> str:
+    """A Dask scheduler address (tcp://HOST:PORT) for --scheduler."""
+    if "://" not in value:
+        raise argparse.ArgumentTypeError(f"expected an address like tcp://HOST:8786, not {value!r}")
+    return value

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from cli import teams
-from cli.args import OutputError, check_writable, checked, half_time, seed
+from cli.args import OutputError, check_writable, checked, half_time, scheduler, seed
 
 EXIT_USAGE = 2
 EXIT_WORSE = 3  # --against: significantly worse than the baseline
@@ -47,12 +47,6 @@ _team_size = checked(int, "team size must be a whole number", lambda n: 1 <= n <
                      "team size must be 1 to 11")
 
 
-def _scheduler(value: str) -> str:
-    if "://" not in value:
-        raise argparse.ArgumentTypeError(f"expected an address like tcp://HOST:8786, not {value!r}")
-    return value
-
-
 def register(subparsers) -> dict:
     """Add `batch` to the `soccer` command."""
     p = subparsers.add_parser("batch", help="many matches: mean goal difference +- standard error",
@@ -69,7 +63,7 @@ def register(subparsers) -> dict:
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=_workers, metavar="W",
                        help="local worker processes (default: one per core; 0: this process)")
-    where.add_argument("--scheduler", type=_scheduler, metavar="tcp://HOST:8786",
+    where.add_argument("--scheduler", type=scheduler, metavar="tcp://HOST:8786",
                        help="play on a Dask cluster (pip install -e '.[distributed]')")
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="batch directory")
     p.add_argument("--resume", action="store_true", help="continue the batch in DIR")

@@ -8,7 +8,7 @@ import logging
 import sys
 from pathlib import Path
 
-from cli.args import OutputError, check_writable, checked, robot_type, seed
+from cli.args import OutputError, check_writable, checked, robot_type, scheduler, seed
 
 EXIT_USAGE = 2
 CONFIG = "job.json"
@@ -50,12 +50,6 @@ def _option(value: str) -> tuple[str, str]:
     return k, v
 
 
-def _scheduler(value: str) -> str:
-    if "://" not in value:
-        raise argparse.ArgumentTypeError(f"expected an address like tcp://HOST:8786, not {value!r}")
-    return value
-
-
 def register(subparsers) -> dict:
     """Add `optimize` to the `soccer` command."""
     p = subparsers.add_parser("optimize", help="run a CMA-ES optimization job (resumable)",
@@ -80,7 +74,7 @@ def register(subparsers) -> dict:
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=_workers, metavar="W",
                        help="local worker processes (default: one per core; 0: this process)")
-    where.add_argument("--scheduler", type=_scheduler, metavar="tcp://HOST:8786",
+    where.add_argument("--scheduler", type=scheduler, metavar="tcp://HOST:8786",
                        help="run trials on a Dask cluster (pip install 'dask[distributed]')")
     p.add_argument("--out", type=Path, metavar="DIR", help="job directory (default runs/TASK)")
     p.add_argument("--resume", type=Path, metavar="DIR", help="continue the job in DIR")
