@@ -37,7 +37,7 @@ def test_task_file_runs_its_layers_in_order(tmp_path):
 
 @pytest.mark.parametrize("args,needle", [
     (["optimize", "walk_backward"], "unknown task 'walk_backward'"),
-    (["optimize", "sphere", "--population", "0"], "must be at least 1"),
+    (["optimize", "sphere", "--population", "0"], "must be 1 to 1000000"),
     (["optimize", "sphere", "--workers", "-1"], "workers must be 0"),
     (["optimize", "sphere", "--workers", "2", "--scheduler", "tcp://x:8786"], "not allowed with argument"),
     (["optimize", "sphere", "--scheduler", "localhost"], "expected an address like tcp://HOST:8786"),
