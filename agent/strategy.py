@@ -335,39 +335,48 @@ def _clearance(a: np.ndarray, b: np.ndarray, points: np.ndarray) -> float:
     return float(np.min(np.hypot(*(points - closest).T)))
 
 
-def kick_score(target: np.ndarray, opponents: np.ndarray, mates: np.ndarray) -> float:
-    """Equation D.1: toward the goal, away from opponents, near a teammate."""
-    score = -float(np.hypot(*(OPP_GOAL - target)))
+def kick_scores(targets: np.ndarray, opponents: np.ndarray, mates: np.ndarray) -> np.ndarray:
+    """Equation D.1 for (k, 2) targets: toward the goal, away from opponents, near a
+    teammate."""
+    t = np.asarray(targets, dtype=float).reshape(-1, 2)
+    score = -np.hypot(OPP_GOAL[0] - t[:, 0], OPP_GOAL[1] - t[:, 1])
     if len(opponents):
-        d2 = np.sum((opponents - target) ** 2, axis=1)
-        score -= float(np.sum(np.maximum(OPPONENT_RADIUS_SQ - d2, 0.0)))
+        d2 = np.sum((t[:, None, :] - opponents[None, :, :]) ** 2, axis=2)
+        score -= np.sum(np.maximum(OPPONENT_RADIUS_SQ - d2, 0.0), axis=1)
     if len(mates):
-        score += max(10.0 - float(np.min(np.hypot(*(mates - target).T))), 0.0)
+        near = np.min(np.hypot(*(t[:, None, :] - mates[None, :, :]).transpose(2, 0, 1)), axis=1)
+        score += np.maximum(10.0 - near, 0.0)
     return score
 
 
+def kick_score(target: np.ndarray, opponents: np.ndarray, mates: np.ndarray) -> float:
+    """Equation D.1 for one target."""
+    return float(kick_scores(target, opponents, mates)[0])
+
+
+_DIRECTIONS = np.arange(-math.pi, math.pi, math.radians(10.0))
+_FORWARD = _DIRECTIONS[np.abs(_DIRECTIONS) <= math.radians(100)]  # farther back is too far backwards
+_UNITS = np.stack([np.cos(_FORWARD), np.sin(_FORWARD)], axis=1)
+
+
 def pass_target(ball: np.ndarray, distances: Sequence[float], opponents: np.ndarray,
-                mates: np.ndarray, step: float = math.radians(10.0)) -> tuple[np.ndarray, float]:
-    """D.2.2: the best of the targets every `step` round the ball at each kick distance
-    (m), skipping those out of the field or well backwards; (target, distance)."""
-    best, best_d, best_s = None, 0.0, -math.inf
+                mates: np.ndarray) -> tuple[np.ndarray, float]:
+    """D.2.2: the best of the targets every 10 degrees round the ball at each kick
+    distance (m), skipping those out of the field or well backwards; (target, distance)."""
+    d = np.asarray(distances, dtype=float)
+    b = np.asarray(ball, dtype=float)
+    targets = (b[None, None, :] + d[None, :, None] * _UNITS[:, None, :]).reshape(-1, 2)
+    dist = np.broadcast_to(d[None, :], (len(_UNITS), len(d))).reshape(-1)
     margin = 0.5
-    for a in np.arange(-math.pi, math.pi, step):
-        if abs(a) > math.radians(100):
-            continue  # too far backwards
-        u = np.array([math.cos(a), math.sin(a)])
-        for d in distances:
-            t = ball + d * u
-            if abs(t[0]) > fld.HALF_LENGTH - margin or abs(t[1]) > fld.HALF_WIDTH - margin:
-                continue
-            s = kick_score(t, opponents, mates)
-            if s > best_s:
-                best, best_d, best_s = t, float(d), s
-    if best is None:  # nothing inside: straight at the goal, shortest kick
-        d = float(min(distances))
+    inside = ((np.abs(targets[:, 0]) <= fld.HALF_LENGTH - margin)
+              & (np.abs(targets[:, 1]) <= fld.HALF_WIDTH - margin))
+    if not inside.any():  # nothing inside: straight at the goal, shortest kick
+        dmin = float(d.min())
         u = (OPP_GOAL - ball) / max(float(np.hypot(*(OPP_GOAL - ball))), 1e-9)
-        return ball + d * u, d
-    return best, best_d
+        return ball + dmin * u, dmin
+    scores = np.where(inside, kick_scores(targets, opponents, mates), -np.inf)
+    k = int(np.argmax(scores))
+    return targets[k].copy(), float(dist[k])
 
 
 def opponent_near_ball(view: TeamView, radius: float) -> bool:
@@ -433,7 +442,6 @@ def dive_for(ball: np.ndarray | None, velocity: np.ndarray, me: Sequence[float],
 __all__ = [
     "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "assign_roles", "avoid", "closeness",
     "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away", "kick_score",
-    "on_ball_player",
-    "opponent_near_ball", "own_half", "pass_target", "path_obstacles", "role_obstacles",
-    "role_positions", "shot_target", "walking_cost",
+    "kick_scores", "on_ball_player", "opponent_near_ball", "own_half", "pass_target", "path_obstacles",
+    "role_obstacles", "role_positions", "shot_target", "walking_cost",
 ]
