@@ -1,0 +1,164 @@
+"""The agent's hot loops, compiled with numba: the particle filter's odometry step
+and its line-matching scores.
+
+Each repeats its numpy original operation for operation (same order, same float
+widths, the same libm calls), so results are bit for bit those of the array code
+they replace; what goes is the dozen temporary arrays a call made. Random draws
+stay with the caller's numpy generator.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numba
+import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
+
+TWO_PI = 2.0 * math.pi
+
+
+def _njit(fn):
+    """`numba.njit(cache=True)`, compiled in memory where no cache directory is writable."""
+    try:
+        return numba.njit(cache=True)(fn)
+    except RuntimeError as exc:  # "cannot cache function ...: no locator available"
+        warnings.warn(f"agent kernels compile in memory, not cached: {exc}", RuntimeWarning,
+                      stacklevel=2)
+        return numba.njit(fn)
+
+
+@_njit
+def predict_particles(p: np.ndarray, z: np.ndarray, ex: float, ey: float, et: float,
+                      nx: float, ny: float, nt: float) -> None:
+    """Move particles p (n, 3: x, y, heading) in place by an odometry step (ex, ey, et)
+    (already scaled) perturbed by standard normal draws z (n, 3) times (nx, ny, nt);
+    headings wrapped into [-pi, pi)."""
+    for i in range(p.shape[0]):
+        ddx = ex * (1.0 + nx * z[i, 0])
+        ddy = ey * (1.0 + ny * z[i, 1])
+        ddt = et * (1.0 + nt * z[i, 2])
+        t = p[i, 2]
+        c, s = math.cos(t), math.sin(t)
+        p[i, 0] += c * ddx - s * ddy
+        p[i, 1] += s * ddx + c * ddy
+        p[i, 2] = (t + ddt + math.pi) % TWO_PI - math.pi
+
+
+@intrinsic
+def _fma32(typingctx, a, b, c):
+    """a * b + c in float32 with one rounding (LLVM's fma intrinsic)."""
+    sig = types.float32(types.float32, types.float32, types.float32)
+
+    def codegen(context, builder, signature, args):
+        f32 = ir.FloatType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [f32], ir.FunctionType(f32, [f32] * 3))
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+@_njit
+def line_scores(b: np.ndarray, q: np.ndarray, m: int, k: int, reach: np.ndarray, ratio2: np.ndarray,
+                out: np.ndarray) -> None:
+    """Per particle, the sum over k observed lines of the best (lowest) score over m
+    known lines (`ParticleFilter._line_log_likelihood`).
+
+    b (3 m k, 7) float32 maps the particle features q (7, n) float32 to projections:
+    row (t m + j) k + l holds, for known line j and observed line l, t = 0 the
+    midpoint's coordinate along the known line, 1 its distance from it, 2 the angle
+    penalty (all over their sigmas). reach (m, k) is the half-length difference term,
+    ratio2 (m, k) the squared length ratio excess. out (n,) gets the float64 sums.
+
+    Each projection is the 7-term dot product as OpenBLAS's sgemm kernels form it
+    (a float32 fused multiply-add chain from zero, in feature order), so the result
+    is bit for bit that of `b @ q` followed by the array code this replaced; one
+    pass over the particles per (known, observed) line pair instead of ten passes
+    over 3 m k n temporaries, and no BLAS threads.
+    """
+    n = q.shape[1]
+    mk = m * k
+    zero = np.float32(0.0)
+    best = np.empty(n, dtype=np.float32)
+    for i in range(n):
+        out[i] = 0.0
+    for l in range(k):
+        for i in range(n):
+            best[i] = np.float32(np.inf)
+        for j in range(m):
+            ra, rp, rs = j * k + l, mk + j * k + l, 2 * mk + j * k + l
+            rj, r2 = reach[j, l], ratio2[j, l]
+            for i in range(n):
+                a = zero
+                p = zero
+                s = zero
+                for f in range(7):
+                    qf = q[f, i]
+                    a = _fma32(b[ra, f], qf, a)
+                    p = _fma32(b[rp, f], qf, p)
+                    s = _fma32(b[rs, f], qf, s)
+                a = np.float32(np.float64(abs(a)) + rj)
+                a = a if a > zero else zero
+                s = s + a * a
+                s = s + p * p
+                s = np.float32(np.float64(s) + r2)
+                best[i] = s if s < best[i] else best[i]
+        for i in range(n):
+            out[i] += np.float64(best[i])
+
+
+@_njit
+def _row_sum(a: np.ndarray, n: int) -> float:
+    """Sum of a[:n] in numpy's order for a row of up to 128 (`np.sum(axis=-1)`): in turn
+    below 8 terms, else its 8-way unrolled pairwise sum."""
+    if n < 8:
+        res = 0.0
+        for i in range(n):
+            res += a[i]
+        return res
+    r0, r1, r2, r3, r4, r5, r6, r7 = a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]
+    i = 8
+    while i < n - n % 8:
+        r0 += a[i]
+        r1 += a[i + 1]
+        r2 += a[i + 2]
+        r3 += a[i + 3]
+        r4 += a[i + 4]
+        r5 += a[i + 5]
+        r6 += a[i + 6]
+        r7 += a[i + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += a[i]
+        i += 1
+    return res
+
+
+@_njit
+def landmark_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.ndarray,
+                            lm: np.ndarray, obs: np.ndarray, r_obs: np.ndarray, w_dist: np.ndarray,
+                            k_bearing: float, out: np.ndarray) -> None:
+    """out[i] = -0.5 sum_j (distance error_ij w_dist_j)^2 + (2 - 2 cos bearing error_ij) k_bearing
+    for particles (px, py, heading with cosine c and sine s) and k landmarks at lm (k, 2)
+    seen at obs (k, 2) (level frame; r_obs their distances): the array code of
+    `ParticleFilter._log_likelihood` (its (n, k) temporaries and row sums) per particle."""
+    k = lm.shape[0]
+    dr = np.empty(k)
+    for i in range(px.shape[0]):
+        x, y, cc, ss = px[i], py[i], c[i], s[i]
+        for j in range(k):
+            ex = lm[j, 0] - x
+            ey = lm[j, 1] - y
+            r_exp = math.sqrt(ex * ex + ey * ey)
+            cos_d = ex * (cc * obs[j, 0] - ss * obs[j, 1])
+            cos_d += ey * (ss * obs[j, 0] + cc * obs[j, 1])
+            cos_d /= r_exp * r_obs[j] + 1e-9
+            d = (r_exp - r_obs[j]) * w_dist[j]
+            d *= d
+            d += (2.0 - 2.0 * cos_d) * k_bearing
+            dr[j] = d
+        out[i] = 0.0 - 0.5 * _row_sum(dr, k)
