@@ -160,6 +160,11 @@ def direction_to_xy(direction: float, max_x: float, max_y: float) -> tuple[float
     return math.copysign(x, c), math.copysign(y, s)
 
 
+def _clip(v: float, lo: float, hi: float) -> float:
+    """np.clip of one float (NaN stays NaN)."""
+    return lo if v < lo else hi if v > hi else v
+
+
 def _sigmoid(v: float) -> float:
     return 1.0 / (1.0 + math.exp(-v))
 
@@ -229,24 +234,29 @@ class WalkEngine:
         if set_name not in self.sets:
             raise KeyError(f"unknown walk set {set_name!r}; sets are {', '.join(self.sets)}")
         p = self.params = self.sets[set_name]
-        desired = np.clip([x, y, turn], -1.0, 1.0) * [p.max_step_size_x, p.max_step_size_y,
-                                                       p.max_step_size_angle]
-        if desired[0] < 0:  # backward steps are shorter (the feet land toe first otherwise)
-            desired[0] *= p.backward_factor
-        moving = bool(np.any(np.abs(desired) > 1e-9))
+        # Scalar floats (the same operations as the 3-arrays they replaced, bit for bit).
+        mx, my, ma = p.max_step_size_x, p.max_step_size_y, p.max_step_size_angle
+        dx = _clip(float(x), -1.0, 1.0) * mx
+        dy = _clip(float(y), -1.0, 1.0) * my
+        dt_ = _clip(float(turn), -1.0, 1.0) * ma
+        if dx < 0:  # backward steps are shorter (the feet land toe first otherwise)
+            dx *= p.backward_factor
+        moving = abs(dx) > 1e-9 or abs(dy) > 1e-9 or abs(dt_) > 1e-9
         self.stop_time = 0.0 if moving else self.stop_time + self.dt
         # Proportional step-size filter, clamped at the maximum steps.
-        gain = np.array([p.pid_step_size_x, p.pid_step_size_y, p.pid_step_size_rot])
-        self.step = self.step + gain * (desired - self.step)
-        self.step = np.clip(self.step, -np.array([p.max_step_size_x, p.max_step_size_y,
-                                                   p.max_step_size_angle]),
-                            [p.max_step_size_x, p.max_step_size_y, p.max_step_size_angle])
+        s0, s1, s2 = self.step.tolist()
+        s0 = _clip(s0 + p.pid_step_size_x * (dx - s0), -mx, mx)
+        s1 = _clip(s1 + p.pid_step_size_y * (dy - s1), -my, my)
+        s2 = _clip(s2 + p.pid_step_size_rot * (dt_ - s2), -ma, ma)
         # Center-of-mass error feedback (sensed vs expected a cycle ago) shrinks the steps.
         if joints is not None and self.expected_com is not None:
-            err = float(np.max(np.abs(self.kin.com(joints)[:2] - self.expected_com[:2])))
+            com, exp = self.kin.com(joints), self.expected_com
+            err = max(abs(float(com[0] - exp[0])), abs(float(com[1] - exp[1])))
             span = max(p.max_acceptable_com_error - p.max_normal_com_error, 1e-6)
             self.step_factor = 1.0 - min(1.0, max(0.0, (err - p.max_normal_com_error) / span))
-            self.step *= self.step_factor
+            f = self.step_factor
+            s0, s1, s2 = s0 * f, s1 * f, s2 * f
+        self.step = np.array([s0, s1, s2])
         # Balance: the feet turn against the torso's tilt and roll (low-passed),
         # with gains pid_tilt and pid_roll: a torso falling forward presses its toes down.
         self.tilt += BALANCE_SMOOTHING * (tilt - self.tilt)
@@ -276,14 +286,14 @@ class WalkEngine:
         # Heading hold: the gyro measures how far the torso turned beyond (or short of)
         # the requested turn; the feet turn against that error (heading_gain per phase).
         turned = self.gyro[2] * self.dt if gyro is not None else self.turn_step * frac
-        self.heading_error += turned - self.step[2] * frac
+        self.heading_error += turned - s2 * frac
         limit = p.max_step_size_angle
-        wanted_turn = float(np.clip(self.step[2] - p.heading_gain * self.heading_error, -limit, limit))
+        wanted_turn = _clip(s2 - p.heading_gain * self.heading_error, -limit, limit)
         if new_phase:  # side step and turn are fixed for a whole step, so no foot changes lead
-            self.latched = (float(self.step[1]), wanted_turn)
+            self.latched = (s1, wanted_turn)
         self.turn_step = self.latched[1]
         targets = self._targets(standing=False)
-        odo = (self.step[0] * frac, self.latched[0] * frac, turned)
+        odo = (s0 * frac, self.latched[0] * frac, turned)
         return WalkOutput(targets, odo, False)
 
     def _swap(self) -> None:
