@@ -82,7 +82,14 @@ class BallFilter:
             u = -self.deceleration * v / speed
         else:
             u = -v * math.exp(-self.drag * dt) / dt  # comes to rest within this step
-        kf.predict(u=u)
+        # filterpy's KalmanFilter.predict(u=u), its very products (bit for bit), without
+        # its argument checks and its copies of the prior (x_prior, P_prior: unused here).
+        f = kf.F
+        kf.x = np.dot(f, kf.x) + np.dot(kf.B, u)
+        p = np.dot(np.dot(f, kf.P), f.T)
+        if kf.alpha != 1.0:
+            p = kf._alpha_sq * p
+        kf.P = p + kf.Q
 
     def update(self, xy: np.ndarray, sigma: float, time: float) -> None:
         """Correct with a measured ground position xy (m, team frame) of standard

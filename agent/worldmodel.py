@@ -38,6 +38,8 @@ BALL_SIGMA_PER_M = 0.01  # ... plus this per m of distance
 HEARD_BALL_SIGMA = 0.4  # m, a teammate's ball report
 PLAYER_MEMORY = 4.0  # s a player sighting is reported on to teammates
 _PART = {n: i for i, n in enumerate(SEEN_PARTS)}
+_HEAD = _PART["head"]
+_HEADING_PAIRS = ((_PART["llowerarm"], _PART["rlowerarm"]), (_PART["lfoot"], _PART["rfoot"]))
 _HALF_CONE = VIEW_CONE / 2 - math.radians(5.0)  # margin for "should have been seen"
 
 
@@ -57,7 +59,7 @@ class WorldObject:
 
     @property
     def known(self) -> bool:
-        return bool(np.isfinite(self.position[0]))
+        return math.isfinite(self.position[0])
 
 
 class WorldModel:
@@ -211,29 +213,33 @@ class WorldModel:
 
     def _see_players(self, obs: Observation, t: float) -> None:
         pos = self.to_field(obs.players)
-        keys = obs.player_ours.astype(int) * 100 + obs.player_unum
-        for key in np.unique(keys):
-            sel = keys == key
-            ours, unum = key >= 100, int(key % 100)
+        # Group the seen parts by robot in one pass over plain ints (no mask per robot);
+        # within a robot its parts keep their order in the percept.
+        groups: dict[int, list[int]] = {}
+        for i, (ours, unum) in enumerate(zip(obs.player_ours.tolist(), obs.player_unum.tolist())):
+            groups.setdefault(int(ours) * 100 + unum, []).append(i)
+        parts_all = obs.player_part.tolist()
+        for key, idx in groups.items():
+            ours, unum = key >= 100, key % 100
             if not 1 <= unum <= TEAM_SIZE or (ours and unum == self.unum):
                 continue
             o = self.objects[f"{'T' if ours else 'O'}{unum}"]
-            parts = obs.player_part[sel]
-            p = pos[sel]
-            head = p[parts == _PART["head"]]
-            o.position = head[0].copy() if len(head) else p.mean(axis=0)
+            first: dict[int, int] = {}  # part -> its first row
+            for i in idx:
+                first.setdefault(parts_all[i], i)
+            head = first.get(_HEAD)
+            o.position = pos[head].copy() if head is not None else pos[idx].mean(axis=0)
             o.position[2] = max(0.0, o.position[2])
             heading = math.nan
-            for left, right in (("llowerarm", "rlowerarm"), ("lfoot", "rfoot")):
-                lp, rp = p[parts == _PART[left]], p[parts == _PART[right]]
-                if len(lp) and len(rp):
-                    d = lp[0] - rp[0]
-                    heading = math.atan2(d[1], d[0]) - math.pi / 2
+            for left, right in _HEADING_PAIRS:
+                if left in first and right in first:
+                    lp, rp = pos[first[left]], pos[first[right]]
+                    heading = math.atan2(lp[1] - rp[1], lp[0] - rp[0]) - math.pi / 2
                     break
             if math.isfinite(heading):
                 o.heading = float(wrap(heading))
-            o.fallen = len(head) > 0 and head[0][2] < 0.25
-            o.vision = obs.players[sel][0]
+            o.fallen = head is not None and pos[head, 2] < 0.25
+            o.vision = obs.players[idx[0]].copy()
             o.last_seen, o.currently_seen, o.valid = t, True, True
 
     def _invalidate(self, obs: Observation) -> None:

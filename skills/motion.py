@@ -62,12 +62,20 @@ class Motion:
     def command(self, target: np.ndarray, percept: Percept) -> np.ndarray:
         """Joint velocities (rad/s) toward `target` angles (rad, league order; NaN = hold)."""
         q = percept.joints
-        target = np.where(np.isnan(target), q if self._prev_target is None else
-                          np.where(np.isnan(self._prev_target), q, self._prev_target), target)
-        ff = 0.0 if self._prev_target is None else (target - self._prev_target) / CYCLE
+        prev = self._prev_target
+        nan = np.isnan(target)
+        if nan.any():  # walks leave the head NaN: hold it where it was (else where it is)
+            target = np.where(nan, q if prev is None else np.where(np.isnan(prev), q, prev), target)
+        else:
+            target = np.array(target, dtype=float)
         self._prev_target = target.copy()
-        v = self.pid(target, q) + self.feedforward * ff
-        return np.clip(v, -self.max_speed, self.max_speed)
+        v = self.pid(target, q)
+        if prev is None:
+            v = v + self.feedforward * 0.0
+        else:
+            v = v + self.feedforward * ((target - prev) / CYCLE)
+        # np.clip as minimum(maximum()): the same values without np.clip's Python layers.
+        return np.minimum(np.maximum(v, -self.max_speed), self.max_speed)
 
     def recover(self, percept: Percept) -> np.ndarray | None:
         """Joint velocities of a getup while the robot is down (or getting up), else None.
