@@ -91,15 +91,19 @@ def line_scores(b: np.ndarray, q: np.ndarray, m: int, k: int, reach: np.ndarray,
         for j in range(m):
             ra, rp, rs = j * k + l, mk + j * k + l, 2 * mk + j * k + l
             rj, r2 = reach[j, l], ratio2[j, l]
+            # The row coefficients as locals: loads LLVM need not repeat per particle
+            # (it cannot prove b is not `best`), so the particle loop vectorizes.
+            a0, a1, a2, a3, a4, a5, a6 = b[ra, 0], b[ra, 1], b[ra, 2], b[ra, 3], b[ra, 4], b[ra, 5], b[ra, 6]
+            p0, p1, p2, p3, p4, p5, p6 = b[rp, 0], b[rp, 1], b[rp, 2], b[rp, 3], b[rp, 4], b[rp, 5], b[rp, 6]
+            s0, s1, s2, s3, s4, s5, s6 = b[rs, 0], b[rs, 1], b[rs, 2], b[rs, 3], b[rs, 4], b[rs, 5], b[rs, 6]
             for i in range(n):
-                a = zero
-                p = zero
-                s = zero
-                for f in range(7):
-                    qf = q[f, i]
-                    a = _fma32(b[ra, f], qf, a)
-                    p = _fma32(b[rp, f], qf, p)
-                    s = _fma32(b[rs, f], qf, s)
+                q0, q1, q2, q3, q4, q5, q6 = q[0, i], q[1, i], q[2, i], q[3, i], q[4, i], q[5, i], q[6, i]
+                a = _fma32(a6, q6, _fma32(a5, q5, _fma32(a4, q4, _fma32(a3, q3, _fma32(
+                    a2, q2, _fma32(a1, q1, _fma32(a0, q0, zero)))))))
+                p = _fma32(p6, q6, _fma32(p5, q5, _fma32(p4, q4, _fma32(p3, q3, _fma32(
+                    p2, q2, _fma32(p1, q1, _fma32(p0, q0, zero)))))))
+                s = _fma32(s6, q6, _fma32(s5, q5, _fma32(s4, q4, _fma32(s3, q3, _fma32(
+                    s2, q2, _fma32(s1, q1, _fma32(s0, q0, zero)))))))
                 a = np.float32(np.float64(abs(a)) + rj)
                 a = a if a > zero else zero
                 s = s + a * a
@@ -162,3 +166,44 @@ def landmark_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np
             d += (2.0 - 2.0 * cos_d) * k_bearing
             dr[j] = d
         out[i] = 0.0 - 0.5 * _row_sum(dr, k)
+
+
+@_njit
+def resample_into(particles: np.ndarray, weights: np.ndarray, u0: float, noise: np.ndarray,
+                  walk_xy: float, walk_theta: float, out: np.ndarray) -> None:
+    """Systematic resampling of len(noise) particles into out[:len(noise)]: positions
+    (u0 + i) / len(noise) in the cumulative weights (its last entry set to 1), each drawn
+    particle plus its row of noise times (walk_xy, walk_xy, walk_theta). The array code
+    of `ParticleFilter._resample` in one pass."""
+    cum = np.cumsum(weights)
+    cum[-1] = 1.0
+    n_keep = noise.shape[0]
+    pos = (u0 + np.arange(n_keep)) * (1.0 / n_keep)
+    idx = np.searchsorted(cum, pos)
+    for i in range(n_keep):
+        r = idx[i]
+        out[i, 0] = particles[r, 0] + noise[i, 0] * walk_xy
+        out[i, 1] = particles[r, 1] + noise[i, 1] * walk_xy
+        out[i, 2] = particles[r, 2] + noise[i, 2] * walk_theta
+
+
+@_njit
+def seed_poses(lm: np.ndarray, obs: np.ndarray, i: np.ndarray, j: np.ndarray, z: np.ndarray,
+               sigma_theta: float, out: np.ndarray) -> None:
+    """Sensor resetting (`ParticleFilter._seed_from_landmarks`): row r of out (k, 3) gets
+    the pose that puts landmark i[r] (at lm, team frame) where it was seen (obs, level
+    frame), its heading from the pair (i[r], j[r]) plus z[r] sigma_theta when j is not
+    empty, else the heading already in out[r, 2]."""
+    for r in range(out.shape[0]):
+        a = i[r]
+        if j.shape[0]:
+            b = j[r]
+            theta = math.atan2(lm[b, 1] - lm[a, 1], lm[b, 0] - lm[a, 0]) - math.atan2(
+                obs[b, 1] - obs[a, 1], obs[b, 0] - obs[a, 0])
+            theta += z[r] * sigma_theta
+        else:
+            theta = out[r, 2]
+        c, s = math.cos(theta), math.sin(theta)
+        out[r, 0] = lm[a, 0] - (c * obs[a, 0] - s * obs[a, 1])
+        out[r, 1] = lm[a, 1] - (s * obs[a, 0] + c * obs[a, 1])
+        out[r, 2] = theta

@@ -51,6 +51,8 @@ UT_ODOMETRY_FACTORS = (0.8, 0.3, 0.2)
 # walk reports, 10 s of walking forward, sideways and turning, mean over types 0-4
 # (forward 0.85-1.03 by type, sideways 0.91-1.00; the turn comes from the gyro: 1.00-1.04).
 WALK_ODOMETRY_FACTORS = (0.94, 0.95, 1.0)
+_NO_PAIRS = np.zeros(0, dtype=np.int64)  # seed_poses with one landmark: no second ones ...
+_NO_DRAWS = np.zeros(0)  # ... and no heading noise
 
 
 @dataclass
@@ -328,16 +330,14 @@ class ParticleFilter:
         n = len(self.particles)
         n_new = int(round(pr.random_fraction * n))
         n_keep = n - n_new
-        cum = np.cumsum(self.weights)
-        cum[-1] = 1.0
-        idx = np.searchsorted(cum, (self.rng.random() + np.arange(n_keep)) * (1.0 / n_keep))
-        out = np.empty((n, 3))
+        u0 = self.rng.random()
         # The random walk grows when even the best particle fits badly (the cloud has
         # collapsed next to the truth rather than on it) and shrinks back when it fits.
         grow = min(max(self.misfit, 1.0), pr.walk_max_growth)
         noise = self.rng.standard_normal((n_keep, 3))
-        noise *= (pr.walk_xy * grow, pr.walk_xy * grow, pr.walk_theta * grow)
-        np.add(self.particles[idx], noise, out=out[:n_keep])
+        out = np.empty((n, 3))
+        kernels.resample_into(self.particles, self.weights, u0, noise, pr.walk_xy * grow,
+                              pr.walk_theta * grow, out)
         fresh = out[n_keep:]
         fresh[:] = self.rng.uniform(self._low, self._high, (n_new, 3))
         if lm_idx and n_new > 1:
@@ -355,19 +355,11 @@ class ParticleFilter:
         k = len(out)
         lm = self._lm_xy[np.asarray(lm_idx)]
         i = self.rng.integers(len(lm_idx), size=k)
+        j, z = _NO_PAIRS, _NO_DRAWS
         if len(lm_idx) >= 2:
             j = (i + self.rng.integers(1, len(lm_idx), size=k)) % len(lm_idx)  # j != i
-            dl = lm[j] - lm[i]
-            do = lm_obs[j] - lm_obs[i]
-            theta = np.arctan2(dl[:, 1], dl[:, 0]) - np.arctan2(do[:, 1], do[:, 0])
-            theta += self.rng.standard_normal(k) * pr.seed_sigma_theta
-        else:
-            theta = out[:, 2]
-        c, s = np.cos(theta), np.sin(theta)
-        obs = lm_obs[i]
-        out[:, 0] = lm[i, 0] - (c * obs[:, 0] - s * obs[:, 1])
-        out[:, 1] = lm[i, 1] - (s * obs[:, 0] + c * obs[:, 1])
-        out[:, 2] = theta
+            z = self.rng.standard_normal(k)
+        kernels.seed_poses(lm, lm_obs, i, j, z, pr.seed_sigma_theta, out)
 
     # ---------------------------------------------------------------- estimate
 

@@ -43,6 +43,32 @@ _HEADING_PAIRS = ((_PART["llowerarm"], _PART["rlowerarm"]), (_PART["lfoot"], _PA
 _HALF_CONE = VIEW_CONE / 2 - math.radians(5.0)  # margin for "should have been seen"
 
 
+def _median(z: np.ndarray) -> float:
+    """np.median of finite values, bit for bit (the middle one, or the two middle ones'
+    sum halved), without its generic machinery."""
+    s = np.sort(z)
+    n = len(s)
+    h = n // 2
+    return float(s[h]) if n % 2 else float((s[h - 1] + s[h]) / 2.0)
+
+
+_decoded: dict[tuple[str, float], comm.TeamMessage | None] = {}
+
+
+def _decode_heard(heard) -> comm.TeamMessage | None:
+    """`comm.decode_heard`, remembered for the messages of the latest time heard: every
+    teammate hears the same text, and decoding is a pure function of it and its time
+    (the messages are frozen), so one decode serves the team (in this process)."""
+    if heard.team != "ours":
+        return None
+    key = (heard.text, heard.time)
+    if key not in _decoded:
+        if len(_decoded) > 64:
+            _decoded.clear()
+        _decoded[key] = comm.decode(heard.text, heard.time)
+    return _decoded[key]
+
+
 @dataclass
 class WorldObject:
     """One object's memory. Positions are in the team frame (m); heading in rad."""
@@ -194,7 +220,7 @@ class WorldModel:
         z = np.concatenate([np.array(known_z) - obs.landmarks[:, 2], -obs.lines[:, :, 2].ravel()])
         z = z[np.isfinite(z)]
         if len(z):
-            self.torso_height += 0.2 * (float(np.median(z)) - self.torso_height)
+            self.torso_height += 0.2 * (_median(z) - self.torso_height)
         t = percept.time
         v = percept.vision
         for name, pol in zip(v.landmark_names, v.landmarks):
@@ -262,7 +288,7 @@ class WorldModel:
     def _hear(self, percept: Percept) -> None:
         self.heard = []
         for h in percept.heard:
-            msg = comm.decode_heard(h)
+            msg = _decode_heard(h)
             if msg is None or msg.unum == self.unum:
                 continue
             self.heard.append(msg)
