@@ -18,7 +18,8 @@ their median and their best; the other figures are over all windows.
 (world model, particle filter, ball filter, perception, decision, body, walk
 engine, IK, IMU, motion) with light timers round their functions and prints a
 second JSON line, `world_agent_stages`: per team and stage, the wall us per
-agent cycle, inclusive (a stage's time holds that of the stages it calls: the
+agent cycle (or, with `--clock cpu`, this thread's CPU time, steadier on a shared
+machine), inclusive (a stage's time holds that of the stages it calls: the
 world model holds the particle and ball filters, perception and its IMU; the
 body holds the walk engine, IK, motion and its IMUs). The timers add about 0.3
 us a call, so the totals run a little above an untimed run's.
@@ -51,6 +52,9 @@ def main() -> None:
     ap.add_argument("--away", default="posture", help="right team (cli.teams name)")
     ap.add_argument("--players", type=int, default=11, help="players a side (1-11)")
     ap.add_argument("--stages", action="store_true", help="time the stages of an agent's cycle")
+    ap.add_argument("--clock", choices=("wall", "cpu"), default="wall",
+                    help="clock of the per-team and per-stage agent times: wall, or this thread's "
+                         "CPU time (steadier on a machine shared with other work)")
     args = ap.parse_args()
     if args.seconds <= 0 or args.repeats < 1:
         ap.error(f"--seconds must be > 0 and --repeats >= 1 (got {args.seconds}, {args.repeats})")
@@ -63,7 +67,7 @@ def main() -> None:
     m = Match(teams["L"], teams["R"], Lineup.default(args.players, args.players),
               half_time=10 * args.seconds * args.repeats, seed=args.seed,
               team_names=(args.home, args.away))
-    clock = TeamClock(m)
+    clock = TeamClock(m, time.thread_time if args.clock == "cpu" else time.perf_counter)
     while m.referee.mode == PlayMode.BEFORE_KICK_OFF:  # beam and settle, untimed
         m.step()
     stages = StageTimers(clock) if args.stages else None
@@ -94,7 +98,7 @@ def main() -> None:
         "seconds": t, "vision_ms_per_frame": round(1e3 * t["vision"] / max(frames, 1), 3),
         "physics_us_per_step": round(1e6 * t["physics"] / (all_cycles * m.world.substeps), 1),
         "us_per_agent_cycle": round(1e6 * t["agents"] / (all_cycles * len(m.agents)), 1),
-        "teams": {"L": args.home, "R": args.away},
+        "teams": {"L": args.home, "R": args.away}, "agent_clock": args.clock,
         "us_per_agent_cycle_by_team": clock.us_per_agent_cycle(all_cycles),
         "contacts": int(m.world.data.ncon), "machine": machine(),
     }))
@@ -102,6 +106,7 @@ def main() -> None:
         stages.remove()
         print(json.dumps({
             "benchmark": "world_agent_stages", "teams": {"L": args.home, "R": args.away},
+            "agent_clock": args.clock,
             "sim_seconds": sim, "us_per_agent_cycle": stages.table(clock, all_cycles),
             "machine": machine(),
         }))
@@ -111,7 +116,8 @@ class TeamClock:
     """Wall time of each team's agents: every agent's `act` is wrapped with a timer, and
     `current` names the team whose agent is acting (for `StageTimers`)."""
 
-    def __init__(self, m: Match) -> None:
+    def __init__(self, m: Match, now=time.perf_counter) -> None:
+        self.now = now
         self.side = [p.side for p in m.world.players]
         self.count = {s: self.side.count(s) for s in ("L", "R")}
         self.seconds = {"L": 0.0, "R": 0.0}
@@ -122,11 +128,11 @@ class TeamClock:
     def _timed(self, act, side: str):
         def timed(percept):
             self.current = side
-            t0 = time.perf_counter()
+            t0 = self.now()
             try:
                 return act(percept)
             finally:
-                self.seconds[side] += time.perf_counter() - t0
+                self.seconds[side] += self.now() - t0
         return timed
 
     def reset(self) -> None:
@@ -174,15 +180,15 @@ class StageTimers:
             setattr(owner, name, self._timed(fn, stage, clock))
 
     def _timed(self, fn, stage: str, clock: TeamClock):
-        seconds, calls = self.seconds, self.calls
+        seconds, calls, now = self.seconds, self.calls, clock.now
 
         def timed(*args, **kwargs):
-            t0 = time.perf_counter()
+            t0 = now()
             try:
                 return fn(*args, **kwargs)
             finally:
                 key = (clock.current, stage)
-                seconds[key] = seconds.get(key, 0.0) + time.perf_counter() - t0
+                seconds[key] = seconds.get(key, 0.0) + now() - t0
                 calls[key] = calls.get(key, 0) + 1
         return timed
 
