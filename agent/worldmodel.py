@@ -245,6 +245,7 @@ class WorldModel:
         for i, (ours, unum) in enumerate(zip(obs.player_ours.tolist(), obs.player_unum.tolist())):
             groups.setdefault(int(ours) * 100 + unum, []).append(i)
         parts_all = obs.player_part.tolist()
+        rows = pos.tolist()  # plain floats: the same values, without numpy scalar overhead
         for key, idx in groups.items():
             ours, unum = key >= 100, key % 100
             if not 1 <= unum <= TEAM_SIZE or (ours and unum == self.unum):
@@ -254,17 +255,21 @@ class WorldModel:
             for i in idx:
                 first.setdefault(parts_all[i], i)
             head = first.get(_HEAD)
-            o.position = pos[head].copy() if head is not None else pos[idx].mean(axis=0)
-            o.position[2] = max(0.0, o.position[2])
-            heading = math.nan
+            if head is not None:
+                x, y, z = rows[head]
+                o.position = np.array([x, y, max(0.0, z)])
+                o.fallen = z < 0.25
+            else:
+                o.position = pos[idx].mean(axis=0)
+                o.position[2] = max(0.0, o.position[2])
+                o.fallen = False
             for left, right in _HEADING_PAIRS:
                 if left in first and right in first:
-                    lp, rp = pos[first[left]], pos[first[right]]
+                    lp, rp = rows[first[left]], rows[first[right]]
                     heading = math.atan2(lp[1] - rp[1], lp[0] - rp[0]) - math.pi / 2
+                    if math.isfinite(heading):
+                        o.heading = float(wrap(heading))
                     break
-            if math.isfinite(heading):
-                o.heading = float(wrap(heading))
-            o.fallen = head is not None and pos[head, 2] < 0.25
             o.vision = obs.players[idx[0]].copy()
             o.last_seen, o.currently_seen, o.valid = t, True, True
 
