@@ -115,6 +115,10 @@ class WorldModel:
         for u in range(1, TEAM_SIZE + 1):
             self.objects[f"T{u}"] = WorldObject(f"T{u}")
             self.objects[f"O{u}"] = WorldObject(f"O{u}")
+        # Other robots' memories by percept key (100 for ours + uniform number).
+        self._robots = {(100 if ours else 0) + u: self.objects[f"{'T' if ours else 'O'}{u}"]
+                        for ours in (True, False) for u in range(1, TEAM_SIZE + 1)
+                        if not (ours and u == unum)}
         self.last_fixed_seen = -math.inf  # s, last vision frame with a landmark or line
         self.torso_height = 0.36  # m, re-estimated from landmarks and lines
         self.observation: Observation | None = None
@@ -246,11 +250,11 @@ class WorldModel:
             groups.setdefault(int(ours) * 100 + unum, []).append(i)
         parts_all = obs.player_part.tolist()
         rows = pos.tolist()  # plain floats: the same values, without numpy scalar overhead
+        robots = self._robots
         for key, idx in groups.items():
-            ours, unum = key >= 100, key % 100
-            if not 1 <= unum <= TEAM_SIZE or (ours and unum == self.unum):
+            o = robots.get(key)  # None: an out-of-range number, or this player itself
+            if o is None:
                 continue
-            o = self.objects[f"{'T' if ours else 'O'}{unum}"]
             first: dict[int, int] = {}  # part -> its first row
             for i in idx:
                 first.setdefault(parts_all[i], i)
