@@ -45,7 +45,10 @@ def predict_particles(p: np.ndarray, z: np.ndarray, ex: float, ey: float, et: fl
         c, s = math.cos(t), math.sin(t)
         p[i, 0] += c * ddx - s * ddy
         p[i, 1] += s * ddx + c * ddy
-        p[i, 2] = (t + ddt + math.pi) % TWO_PI - math.pi
+        a = t + ddt + math.pi
+        if not 0.0 <= a < TWO_PI:  # inside, a % TWO_PI is a itself (fmod is exact): skip it
+            a = a % TWO_PI
+        p[i, 2] = a - math.pi
 
 
 @intrinsic
