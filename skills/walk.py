@@ -196,6 +196,19 @@ class WalkEngine:
         self.legs = {s: np.array([self.index[f"{s}lj{k}"] for k in range(1, 7)]) for s in "lr"}
         geo = self.ik.geom
         self.hip = {s: np.asarray(geo.leg(s).hip, dtype=float) for s in "lr"}
+        # _targets' indices, looked up once: each leg as a slice where its joints are
+        # consecutive (league order), the arm joints, the toes and ankle pitches.
+        self._leg_at = {}
+        for s, ix in self.legs.items():
+            start = int(ix[0])
+            run = np.array_equal(ix, np.arange(start, start + 6))
+            self._leg_at[s] = slice(start, start + 6) if run else ix
+        ix = self.index
+        self._arms = (ix["laj1"], ix["raj1"], ix["laj2"], ix["raj2"])
+        self._arms_zero = tuple(ix[n] for n in ("laj3", "raj3", "laj4", "raj4"))
+        self._toe = nao.robot_type(robot_type).toe
+        self._toes = tuple((ix[f"{s}lj7"], ix[f"{s}lj5"]) for s in "lr") if self._toe else ()
+        self._nan = np.full(len(self.names), np.nan)
         self.reset()
 
     def step_begins(self) -> bool:
@@ -391,26 +404,27 @@ class WalkEngine:
 
     def _targets(self, standing: bool) -> np.ndarray:
         p = self.params
-        q = np.full(len(self.names), np.nan)
+        q = self._nan.copy()
         feet = self.foot_targets(standing)
         for side, (pos, rpy) in feet.items():
             q6, _ = self.ik.solve(side, pos, rpy, target="ankle")
-            q[self.legs[side]] = q6
+            q[self._leg_at[side]] = q6
         # Arms hang with a little swing against the legs (pid_arm_x) for balance.
         swing_x = feet["l"][0][0] - feet["r"][0][0]
-        q[self.index["laj1"]] = p.arm_pitch - p.pid_arm_x * swing_x
-        q[self.index["raj1"]] = p.arm_pitch + p.pid_arm_x * swing_x
-        q[self.index["laj2"]] = p.arm_roll
-        q[self.index["raj2"]] = -p.arm_roll
-        for n in ("laj3", "raj3", "laj4", "raj4"):
-            q[self.index[n]] = 0.0
-        if nao.robot_type(self.robot_type).toe:
+        la1, ra1, la2, ra2 = self._arms
+        q[la1] = p.arm_pitch - p.pid_arm_x * swing_x
+        q[ra1] = p.arm_pitch + p.pid_arm_x * swing_x
+        q[la2] = p.arm_roll
+        q[ra2] = -p.arm_roll
+        for i in self._arms_zero:
+            q[i] = 0.0
+        if self._toe:
             t = 0.0 if standing else (self.phi - self.phi_start) / (self.phi_end - self.phi_start)
             toe = p.toe_amplitude * math.cos(t * math.pi + p.toe_phase_offset) + p.toe_const_offset
             ank = p.ankle_amplitude * math.cos(t * math.pi + p.ankle_phase_offset) + p.ankle_const_offset
-            for s in "lr":
-                q[self.index[f"{s}lj7"]] = toe
-                q[self.index[f"{s}lj5"]] += ank
+            for i_toe, i_ank in self._toes:
+                q[i_toe] = toe
+                q[i_ank] += ank
         full = np.where(np.isnan(q), 0.0, q)
         self.expected_com = self.kin.com(full)
         return q
