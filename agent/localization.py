@@ -135,6 +135,7 @@ class ParticleFilter:
         self._bounds = np.array([field.HALF_LENGTH + m, field.HALF_WIDTH + m])
         self._high = np.array([self._bounds[0], self._bounds[1], math.pi])
         self._low = -self._high
+        self._range = self._high - self._low
         n_p = self.params.n_particles
         self.particles = np.zeros((n_p, 3))
         self._z = np.empty((n_p, 3))  # odometry noise draws, refilled every predict
@@ -339,7 +340,9 @@ class ParticleFilter:
         kernels.resample_into(self.particles, self.weights, u0, noise, pr.walk_xy * grow,
                               pr.walk_theta * grow, out)
         fresh = out[n_keep:]
-        fresh[:] = self.rng.uniform(self._low, self._high, (n_new, 3))
+        # = self.rng.uniform(self._low, self._high, (n_new, 3)), bit for bit (numpy forms
+        # low + (high - low) * the same draws), without its broadcasting machinery.
+        fresh[:] = self._low + self._range * self.rng.random((n_new, 3))
         if lm_idx and n_new > 1:
             self._seed_from_landmarks(fresh[:n_new // 2], lm_idx, lm_obs)
         self.particles = out
