@@ -210,3 +210,60 @@ def seed_poses(lm: np.ndarray, obs: np.ndarray, i: np.ndarray, j: np.ndarray, z:
         out[r, 0] = lm[a, 0] - (c * obs[a, 0] - s * obs[a, 1])
         out[r, 1] = lm[a, 1] - (s * obs[a, 0] + c * obs[a, 1])
         out[r, 2] = theta
+
+
+@_njit
+def line_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.ndarray, seg: np.ndarray,
+                        length: np.ndarray, w_all: np.ndarray, known_len: np.ndarray, inv_distance: float,
+                        sigma_ratio: float, out: np.ndarray) -> None:
+    """out (n,) = the line log-likelihood of `ParticleFilter._line_log_likelihood` for
+    particles (px, py, heading cosines c and sines s), observed lines seg (K, 2, 2) with
+    lengths `length`, against the known lines' rows w_all (3 m, 5) and lengths known_len.
+
+    The same floats as its array code: every entry of its einsum has at most two nonzero
+    products (the row and feature patterns are sparse), so summing them in turn gives
+    its value; then `line_scores`."""
+    k = seg.shape[0]
+    m = known_len.shape[0]
+    n = px.shape[0]
+    g = np.zeros((5, 7))
+    b = np.empty((3 * m * k, 7), dtype=np.float32)
+    for l in range(k):
+        mx = (seg[l, 0, 0] + seg[l, 1, 0]) / 2.0
+        my = (seg[l, 0, 1] + seg[l, 1, 1]) / 2.0
+        a2 = 2.0 * math.atan2(seg[l, 1, 1] - seg[l, 0, 1], seg[l, 1, 0] - seg[l, 0, 0])
+        ca, sa = math.cos(a2), math.sin(a2)
+        g[0, 1] = 1.0
+        g[0, 3], g[0, 4] = mx, -my
+        g[1, 2] = 1.0
+        g[1, 3], g[1, 4] = my, mx
+        g[2, 5], g[2, 6] = ca, -sa
+        g[3, 5], g[3, 6] = sa, ca
+        g[4, 0] = 1.0
+        for j in range(3 * m):
+            for f in range(7):
+                acc = 0.0
+                for e in range(5):
+                    acc += w_all[j, e] * g[e, f]
+                b[j * k + l, f] = np.float32(acc)
+    q = np.empty((7, n), dtype=np.float32)
+    for i in range(n):
+        ci, si = c[i], s[i]
+        q[0, i] = np.float32(1.0)
+        q[1, i] = np.float32(px[i])
+        q[2, i] = np.float32(py[i])
+        q[3, i] = np.float32(ci)
+        q[4, i] = np.float32(si)
+        q[5, i] = np.float32(ci * ci - si * si)
+        q[6, i] = np.float32(2.0 * ci * si)
+    reach = np.empty((m, k))
+    ratio2 = np.empty((m, k))
+    for j in range(m):
+        for l in range(k):
+            r = length[l] / known_len[j] - 1.0
+            r = (r if r >= 0.0 else 0.0) / sigma_ratio
+            ratio2[j, l] = r * r
+            reach[j, l] = (0.5 * length[l] - 0.5 * known_len[j]) * inv_distance
+    line_scores(b, q, m, k, reach, ratio2, out)
+    for i in range(n):
+        out[i] = -0.5 * out[i]
