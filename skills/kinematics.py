@@ -185,6 +185,11 @@ class LegGeometry:
         object.__setattr__(self, "derived", (
             lh * lh, lk * lk, 2.0 * lh * lk, math.atan2(hx, -hz) - math.atan2(kx, -kz),
             math.cos(self.consts[1]), math.sin(self.consts[1])))
+        # All of them in one float array for the compiled IK (`skills._kernels.solve_leg`).
+        hip, tilt, hx, hz, kx, kz, sole, lo, up = self.consts
+        object.__setattr__(self, "kconsts", np.array(
+            [*hip, tilt, hx, hz, kx, kz, *sole, *lo, *up, float(self.reach_min), float(self.reach_max),
+             *self.derived]))
 
 
 @dataclass(frozen=True)
