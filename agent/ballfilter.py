@@ -23,6 +23,23 @@ ROLLING_DRAG = BALL_ROLL_DRAG  # 1/s: dv/dt = -ROLLING_DRAG v - ROLLING_DECELERA
 ROLLING_DECELERATION = BALL_ROLL_DECEL  # m/s^2
 
 
+def _kf_update(kf: KalmanFilter, z: np.ndarray, r: np.ndarray) -> None:
+    """filterpy's `kf.update(z, R=r)` for a (2,) measurement, its very products (bit for
+    bit: the Joseph form, `np.linalg.inv` of S), without its checks, its deepcopy of z
+    and its copies of the posterior (x_post, P_post: unused here)."""
+    kf._log_likelihood = kf._likelihood = kf._mahalanobis = None
+    h = kf.H
+    kf.y = y = z - np.dot(h, kf.x)
+    pht = np.dot(kf.P, h.T)
+    kf.S = np.dot(h, pht) + r
+    kf.SI = kf.inv(kf.S)
+    kf.K = k = np.dot(pht, kf.SI)
+    kf.x = kf.x + np.dot(k, y)
+    i_kh = kf._I - np.dot(k, h)
+    kf.P = np.dot(np.dot(i_kh, kf.P), i_kh.T) + np.dot(np.dot(k, r), k.T)
+    kf.z = z.copy()
+
+
 class BallFilter:
     """Kalman filter (filterpy) over ball position and velocity in the team frame."""
 
@@ -82,7 +99,14 @@ class BallFilter:
             u = -self.deceleration * v / speed
         else:
             u = -v * math.exp(-self.drag * dt) / dt  # comes to rest within this step
-        kf.predict(u=u)
+        # filterpy's KalmanFilter.predict(u=u), its very products (bit for bit), without
+        # its argument checks and its copies of the prior (x_prior, P_prior: unused here).
+        f = kf.F
+        kf.x = np.dot(f, kf.x) + np.dot(kf.B, u)
+        p = np.dot(np.dot(f, kf.P), f.T)
+        if kf.alpha != 1.0:
+            p = kf._alpha_sq * p
+        kf.P = p + kf.Q
 
     def update(self, xy: np.ndarray, sigma: float, time: float) -> None:
         """Correct with a measured ground position xy (m, team frame) of standard
@@ -103,7 +127,7 @@ class BallFilter:
                 if nis > self.maneuver ** 2 and len(self._recent) >= 2:
                     self._refit(z, sigma, time)
                 else:
-                    kf.update(z, R=r)
+                    _kf_update(kf, z, r)
         self.last_update = time
         self._recent.append((time, z[0], z[1]))
         del self._recent[:-self.history]

@@ -68,5 +68,7 @@ class HeadController:
                    ball_distance: float | None) -> np.ndarray:
         """Joint velocities (rad/s) for hj1, hj2 from their current angles joints[0:2]."""
         pan, tilt = self.target(t, ball_bearing, ball_distance)
-        err = np.array([pan - joints[0], tilt - joints[1]])
-        return np.clip(self.gain * err, -nao.MAX_JOINT_SPEED, nao.MAX_JOINT_SPEED)
+        # Two floats clamped by hand: np.clip's values, without its cost on a 2-array.
+        m, g = nao.MAX_JOINT_SPEED, self.gain
+        vp, vt = g * (pan - joints[0]), g * (tilt - joints[1])
+        return np.array([min(max(vp, -m), m), min(max(vt, -m), m)], dtype=float)

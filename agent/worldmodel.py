@@ -39,12 +39,40 @@ BALL_SIGMA_PER_M = 0.01  # ... plus this per m of distance
 HEARD_BALL_SIGMA = 0.4  # m, a teammate's ball report
 PLAYER_MEMORY = 4.0  # s a player sighting is reported on to teammates
 _PART = {n: i for i, n in enumerate(SEEN_PARTS)}
+_HEAD = _PART["head"]
+_HEADING_PAIRS = ((_PART["llowerarm"], _PART["rlowerarm"]), (_PART["lfoot"], _PART["rfoot"]))
 _HALF_CONE = VIEW_CONE / 2 - math.radians(5.0)  # margin for "should have been seen"
 
 
 def player_key(ours: bool, unum: int) -> str:
     """The `WorldModel.objects` key of a player: "T<unum>" for a teammate, "O<unum>" for an opponent."""
     return f"{'T' if ours else 'O'}{unum}"
+
+
+def _median(z: np.ndarray) -> float:
+    """np.median of finite values, bit for bit (the middle one, or the two middle ones'
+    sum halved), without its generic machinery."""
+    s = np.sort(z)
+    n = len(s)
+    h = n // 2
+    return float(s[h]) if n % 2 else float((s[h - 1] + s[h]) / 2.0)
+
+
+_decoded: dict[tuple[str, float], comm.TeamMessage | None] = {}
+
+
+def _decode_heard(heard) -> comm.TeamMessage | None:
+    """`comm.decode_heard`, remembered for the messages of the latest time heard: every
+    teammate hears the same text, and decoding is a pure function of it and its time
+    (the messages are frozen), so one decode serves the team (in this process)."""
+    if heard.team != "ours":
+        return None
+    key = (heard.text, heard.time)
+    if key not in _decoded:
+        if len(_decoded) > 64:
+            _decoded.clear()
+        _decoded[key] = comm.decode(heard.text, heard.time)
+    return _decoded[key]
 
 
 @dataclass
@@ -63,7 +91,7 @@ class WorldObject:
 
     @property
     def known(self) -> bool:
-        return bool(np.isfinite(self.position[0]))
+        return math.isfinite(self.position[0])
 
 
 class WorldModel:
@@ -89,6 +117,10 @@ class WorldModel:
         for u in range(1, TEAM_SIZE + 1):
             for ours in (True, False):
                 self.objects[player_key(ours, u)] = WorldObject(player_key(ours, u))
+        # Other robots' memories by percept key (100 for ours + uniform number).
+        self._robots = {(100 if ours else 0) + u: self.objects[player_key(ours, u)]
+                        for ours in (True, False) for u in range(1, TEAM_SIZE + 1)
+                        if not (ours and u == unum)}
         self.last_fixed_seen = -math.inf  # s, last vision frame with a landmark or line
         self.torso_height = 0.36  # m, re-estimated from landmarks and lines
         self.observation: Observation | None = None
@@ -191,7 +223,7 @@ class WorldModel:
         z = np.concatenate([np.array(known_z) - obs.landmarks[:, 2], -obs.lines[:, :, 2].ravel()])
         z = z[np.isfinite(z)]
         if len(z):
-            self.torso_height += 0.2 * (float(np.median(z)) - self.torso_height)
+            self.torso_height += 0.2 * (_median(z) - self.torso_height)
         t = percept.time
         v = percept.vision
         for name, pol in zip(v.landmark_names, v.landmarks):
@@ -210,29 +242,38 @@ class WorldModel:
 
     def _see_players(self, obs: Observation, t: float) -> None:
         pos = self.to_field(obs.players)
-        keys = obs.player_ours.astype(int) * 100 + obs.player_unum
-        for key in np.unique(keys):
-            sel = keys == key
-            ours, unum = key >= 100, int(key % 100)
-            if not 1 <= unum <= TEAM_SIZE or (ours and unum == self.unum):
+        # Group the seen parts by robot in one pass over plain ints (no mask per robot);
+        # within a robot its parts keep their order in the percept.
+        groups: dict[int, list[int]] = {}
+        for i, (ours, unum) in enumerate(zip(obs.player_ours.tolist(), obs.player_unum.tolist())):
+            groups.setdefault(int(ours) * 100 + unum, []).append(i)
+        parts_all = obs.player_part.tolist()
+        rows = pos.tolist()  # plain floats: the same values, without numpy scalar overhead
+        robots = self._robots
+        for key, idx in groups.items():
+            o = robots.get(key)  # None: an out-of-range number, or this player itself
+            if o is None:
                 continue
-            o = self.objects[player_key(ours, unum)]
-            parts = obs.player_part[sel]
-            p = pos[sel]
-            head = p[parts == _PART["head"]]
-            o.position = head[0].copy() if len(head) else p.mean(axis=0)
-            o.position[2] = max(0.0, o.position[2])
-            heading = math.nan
-            for left, right in (("llowerarm", "rlowerarm"), ("lfoot", "rfoot")):
-                lp, rp = p[parts == _PART[left]], p[parts == _PART[right]]
-                if len(lp) and len(rp):
-                    d = lp[0] - rp[0]
-                    heading = math.atan2(d[1], d[0]) - math.pi / 2
+            first: dict[int, int] = {}  # part -> its first row
+            for i in idx:
+                first.setdefault(parts_all[i], i)
+            head = first.get(_HEAD)
+            if head is not None:
+                x, y, z = rows[head]
+                o.position = np.array([x, y, max(0.0, z)])
+                o.fallen = z < 0.25
+            else:
+                o.position = pos[idx].mean(axis=0)
+                o.position[2] = max(0.0, o.position[2])
+                o.fallen = False
+            for left, right in _HEADING_PAIRS:
+                if left in first and right in first:
+                    lp, rp = rows[first[left]], rows[first[right]]
+                    heading = math.atan2(lp[1] - rp[1], lp[0] - rp[0]) - math.pi / 2
+                    if math.isfinite(heading):
+                        o.heading = float(wrap(heading))
                     break
-            if math.isfinite(heading):
-                o.heading = float(wrap(heading))
-            o.fallen = len(head) > 0 and head[0][2] < 0.25
-            o.vision = obs.players[sel][0]
+            o.vision = obs.players[idx[0]].copy()
             o.last_seen, o.currently_seen, o.valid = t, True, True
 
     def _invalidate(self, obs: Observation) -> None:
@@ -255,7 +296,7 @@ class WorldModel:
     def _hear(self, percept: Percept) -> None:
         self.heard = []
         for h in percept.heard:
-            msg = comm.decode_heard(h)
+            msg = _decode_heard(h)
             if msg is None or msg.unum == self.unum:
                 continue
             self.heard.append(msg)

@@ -1,4 +1,4 @@
-"""Speed of the MuJoCo world: 11 vs 11 posture agents for 60 simulated seconds.
+"""Speed of the MuJoCo world: 11 vs 11 agents (posture by default) for 60 simulated seconds.
 
 Prints one JSON line: the real-time factor of the whole loop and of physics plus
 server (everything but the agents), wall seconds per part of the loop ("vision"
@@ -12,7 +12,20 @@ run after run), so `--repeats N` times N windows of `--seconds` one after
 another in the same match and adds each window's physics-plus-server factor,
 their median and their best; the other figures are over all windows.
 
+`--home` and `--away` name the teams (`cli.teams`; posture by default) and
+`--players` the players a side; the line then also gives each team's agent cost
+(us per agent per cycle, wall). `--stages` times the parts of an agent's cycle
+(world model, particle filter, ball filter, perception, decision, body, walk
+engine, IK, IMU, motion) with light timers round their functions and prints a
+second JSON line, `world_agent_stages`: per team and stage, the wall us per
+agent cycle (or, with `--clock cpu`, this thread's CPU time, steadier on a shared
+machine), inclusive (a stage's time holds that of the stages it calls: the
+world model holds the particle and ball filters, perception and its IMU; the
+body holds the walk engine, IK, motion and its IMUs). The timers add about 0.3
+us a call, so the totals run a little above an untimed run's.
+
     python -m benchmarks.world [--seconds 60] [--repeats 1] [--seed 0]
+    python -m benchmarks.world --home villa --away villa --seconds 20 --stages
 """
 
 from __future__ import annotations
@@ -23,9 +36,10 @@ import time
 
 import numpy as np
 
-from agent.posture import PostureAgent
 from benchmarks.machine import machine
+from cli.teams import UnknownTeam, factory
 from models.rules import VISION_PERIOD, PlayMode
+from models.scene import Lineup
 from server.match import Match
 
 
@@ -34,12 +48,30 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=60.0, help="simulated seconds to time")
     ap.add_argument("--repeats", type=int, default=1, help="timed windows of --seconds, one after another")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--home", default="posture", help="left team (cli.teams name)")
+    ap.add_argument("--away", default="posture", help="right team (cli.teams name)")
+    ap.add_argument("--players", type=int, default=11, help="players a side (1-11)")
+    ap.add_argument("--stages", action="store_true", help="time the stages of an agent's cycle")
+    ap.add_argument("--clock", choices=("wall", "cpu"), default="wall",
+                    help="clock of the per-team and per-stage agent times: wall, or this thread's "
+                         "CPU time (steadier on a machine shared with other work)")
     args = ap.parse_args()
     if args.seconds <= 0 or args.repeats < 1:
         ap.error(f"--seconds must be > 0 and --repeats >= 1 (got {args.seconds}, {args.repeats})")
-    m = Match(PostureAgent, PostureAgent, half_time=10 * args.seconds * args.repeats, seed=args.seed)
+    if not 1 <= args.players <= 11:
+        ap.error(f"--players must be 1 to 11 (got {args.players})")
+    try:
+        teams = {"L": factory(args.home), "R": factory(args.away)}
+    except UnknownTeam as e:
+        ap.error(str(e))
+    m = Match(teams["L"], teams["R"], Lineup.default(args.players, args.players),
+              half_time=10 * args.seconds * args.repeats, seed=args.seed,
+              team_names=(args.home, args.away))
+    clock = TeamClock(m, time.thread_time if args.clock == "cpu" else time.perf_counter)
     while m.referee.mode == PlayMode.BEFORE_KICK_OFF:  # beam and settle, untimed
         m.step()
+    stages = StageTimers(clock) if args.stages else None
+    clock.reset()
     cycles = round(args.seconds / 0.02)
     frames, wall, windows, totals = 0, 0.0, [], {}
     for _ in range(args.repeats):
@@ -66,8 +98,115 @@ def main() -> None:
         "seconds": t, "vision_ms_per_frame": round(1e3 * t["vision"] / max(frames, 1), 3),
         "physics_us_per_step": round(1e6 * t["physics"] / (all_cycles * m.world.substeps), 1),
         "us_per_agent_cycle": round(1e6 * t["agents"] / (all_cycles * len(m.agents)), 1),
+        "teams": {"L": args.home, "R": args.away}, "agent_clock": args.clock,
+        "us_per_agent_cycle_by_team": clock.us_per_agent_cycle(all_cycles),
         "contacts": int(m.world.data.ncon), "machine": machine(),
     }))
+    if stages is not None:
+        stages.remove()
+        print(json.dumps({
+            "benchmark": "world_agent_stages", "teams": {"L": args.home, "R": args.away},
+            "agent_clock": args.clock,
+            "sim_seconds": sim, "us_per_agent_cycle": stages.table(clock, all_cycles),
+            "machine": machine(),
+        }))
+
+
+class TeamClock:
+    """Wall time of each team's agents: every agent's `act` is wrapped with a timer, and
+    `current` names the team whose agent is acting (for `StageTimers`)."""
+
+    def __init__(self, m: Match, now=time.perf_counter) -> None:
+        self.now = now
+        self.side = [p.side for p in m.world.players]
+        self.count = {s: self.side.count(s) for s in ("L", "R")}
+        self.seconds = {"L": 0.0, "R": 0.0}
+        self.current = "L"
+        for i, agent in enumerate(m.agents):
+            agent.act = self._timed(agent.act, self.side[i])
+
+    def _timed(self, act, side: str):
+        def timed(percept):
+            self.current = side
+            t0 = self.now()
+            try:
+                return act(percept)
+            finally:
+                self.seconds[side] += self.now() - t0
+        return timed
+
+    def reset(self) -> None:
+        self.seconds = {"L": 0.0, "R": 0.0}
+
+    def us_per_agent_cycle(self, cycles: int) -> dict[str, float]:
+        return {s: round(1e6 * self.seconds[s] / (cycles * self.count[s]), 1) for s in ("L", "R")}
+
+
+# (stage, module, class or None, function): the functions timed per stage.
+STAGES = (
+    ("world_model", "agent.worldmodel", "WorldModel", "update"),
+    ("particle_filter", "agent.localization", "ParticleFilter", "predict"),
+    ("particle_filter", "agent.localization", "ParticleFilter", "update"),
+    ("ball_filter", "agent.ballfilter", "BallFilter", "predict"),
+    ("ball_filter", "agent.ballfilter", "BallFilter", "update"),
+    ("perception", "agent.worldmodel", None, "observe"),
+    ("see_players", "agent.worldmodel", "WorldModel", "_see_players"),
+    ("hear", "agent.worldmodel", "WorldModel", "_hear"),
+    ("decision", "agent.player", "Player", "view"),
+    ("decision", "agent.player", "Player", "decide"),
+    ("body", "agent.body", "Body", "execute"),
+    ("walk_engine", "skills.walk", "WalkEngine", "update"),
+    ("ik", "skills.ik", "LegIK", "solve"),
+    ("imu", "skills.imu", "TiltEstimator", "update"),
+    ("motion_command", "skills.motion", "Motion", "command"),
+)
+
+
+class StageTimers:
+    """Wall time per (team, stage), by wrapping the functions of `STAGES` with timers."""
+
+    def __init__(self, clock: TeamClock) -> None:
+        import importlib
+
+        self.seconds: dict[tuple[str, str], float] = {}
+        self.calls: dict[tuple[str, str], int] = {}
+        self._saved = []
+        for stage, module, cls, name in STAGES:
+            owner = importlib.import_module(module)
+            if cls is not None:
+                owner = getattr(owner, cls)
+            fn = getattr(owner, name)
+            self._saved.append((owner, name, fn))
+            setattr(owner, name, self._timed(fn, stage, clock))
+
+    def _timed(self, fn, stage: str, clock: TeamClock):
+        seconds, calls, now = self.seconds, self.calls, clock.now
+
+        def timed(*args, **kwargs):
+            t0 = now()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                key = (clock.current, stage)
+                seconds[key] = seconds.get(key, 0.0) + now() - t0
+                calls[key] = calls.get(key, 0) + 1
+        return timed
+
+    def remove(self) -> None:
+        for owner, name, fn in reversed(self._saved):
+            setattr(owner, name, fn)
+
+    def table(self, clock: TeamClock, cycles: int) -> dict[str, dict[str, float]]:
+        """{team side: {stage: us per agent cycle}}, with the agent's whole cycle as 'agent'."""
+        out = {}
+        for side in ("L", "R"):
+            n = cycles * clock.count[side]
+            row = {"agent": round(1e6 * clock.seconds[side] / n, 1)}
+            for stage, *_ in STAGES:
+                if (side, stage) in self.seconds:
+                    row[stage] = round(1e6 * self.seconds[side, stage] / n, 1)
+            out[side] = row
+        return out
 
 
 def server_seconds(t: dict[str, float]) -> float:

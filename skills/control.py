@@ -77,15 +77,18 @@ class JointPid:
         err = np.subtract(target, angles)
         derr = np.zeros_like(err) if self._prev is None else (err - self._prev) / self.dt
         self._prev = err
-        if self.ki.any():
+        integral = self.ki.any()
+        if integral:
             self._integral += err * self.dt
         out = self._out
         np.multiply(self.kp, err, out=out)
         out += self.kd * derr
-        if self.ki.any():
+        if integral:
             out += self.ki * self._integral
-        saturated = np.abs(out) > self.max_speed
-        if self.ki.any() and saturated.any():
-            self._integral[saturated] -= err[saturated] * self.dt  # anti-windup
-        np.clip(out, -self.max_speed, self.max_speed, out=out)
+            saturated = np.abs(out) > self.max_speed
+            if saturated.any():
+                self._integral[saturated] -= err[saturated] * self.dt  # anti-windup
+        # np.clip as minimum(maximum()): the same values without np.clip's Python layers.
+        np.maximum(out, -self.max_speed, out=out)
+        np.minimum(out, self.max_speed, out=out)
         return out

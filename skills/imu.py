@@ -65,35 +65,46 @@ class TiltEstimator:
         self.accel_smoothing = accel_smoothing
         self.roll = 0.0
         self.pitch = 0.0
-        self._acc = np.array([0.0, 0.0, GRAVITY])
+        self._a = [0.0, 0.0, GRAVITY]  # the low-passed accelerometer (m/s^2), as floats
         self._started = not from_first
+
+    @property
+    def _acc(self) -> np.ndarray:
+        """The low-passed accelerometer (m/s^2, torso frame)."""
+        return np.array(self._a)
 
     def update(self, gyro: np.ndarray, accel: np.ndarray, dt: float) -> None:
         """One cycle: gyro (rad/s) and accelerometer (m/s^2) in the torso frame, dt in s."""
-        accel = np.asarray(accel, dtype=float)
-        if not np.all(np.isfinite(accel)):
+        # Scalar floats throughout: the same operations as on 3-arrays, bit for bit, in
+        # about a quarter of the time (this runs three or four times an agent cycle).
+        ax, ay, az = np.asarray(accel, dtype=float).tolist()
+        if not (math.isfinite(ax) and math.isfinite(ay) and math.isfinite(az)):
             return
+        a = self._a
         if self._started:
-            self._acc += self.accel_smoothing * (accel - self._acc)
+            s = self.accel_smoothing
+            a[0] += s * (ax - a[0])
+            a[1] += s * (ay - a[1])
+            a[2] += s * (az - a[2])
         else:
-            self._acc[:] = accel
-        acc_roll, acc_pitch = _roll_pitch(*self._acc)
+            a[0], a[1], a[2] = ax, ay, az
+        acc_roll, acc_pitch = _roll_pitch(a[0], a[1], a[2])
         if not self._started:
             self.roll, self.pitch, self._started = acc_roll, acc_pitch, True
             return
+        gx, gy, gz = np.asarray(gyro, dtype=float).tolist()
         if self.exact:
             # The world's up direction in the torso frame turns against the torso's
             # angular velocity, du/dt = -omega x u, whatever the yaw rate.
             # Scalars: with np.cross an update took 43 us, now about 8.
-            gx, gy, gz = gyro
             cp = math.cos(self.pitch)
             ux, uy, uz = -math.sin(self.pitch), cp * math.sin(self.roll), cp * math.cos(self.roll)
             roll, pitch = _roll_pitch(ux - (gy * uz - gz * uy) * dt, uy - (gz * ux - gx * uz) * dt,
                                       uz - (gx * uy - gy * ux) * dt)
         else:
             # Small-angle Euler rates: droll ~ gx, dpitch ~ gy.
-            roll = self.roll + gyro[0] * dt
-            pitch = self.pitch + gyro[1] * dt
+            roll = self.roll + gx * dt
+            pitch = self.pitch + gy * dt
         k = self.blend
         # Wrapped: lying, the roll passes +-pi, and an unwrapped 2 pi read as a lean.
         self.roll = math.remainder(roll + k * math.remainder(acc_roll - roll, 2 * math.pi), 2 * math.pi)
@@ -123,14 +134,14 @@ class TiltEstimator:
         accelerometer and by the fused estimate both. Walking, foot strikes alone can tip the
         smoothed accelerometer past 80 deg on an upright torso, whose fused tilt stays near
         10 deg; a robot that took that for a fall froze mid-step and toppled."""
-        return self.tilt > self.fall_angle and self.fused_tilt > self.fall_angle
+        return self.fused_tilt > self.fall_angle and self.tilt > self.fall_angle  # the cheaper first
 
     @property
     def fall_direction(self) -> str | None:
         """'front', 'back' or 'side' when fallen, else None."""
         if not self.fallen:
             return None
-        ax, ay, _ = self._acc
+        ax, ay, _ = self._a
         if abs(ax) >= abs(ay):
             return "front" if ax < 0 else "back"  # face down: x axis points at the ground
         return "side"

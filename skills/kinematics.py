@@ -13,6 +13,7 @@ frame the torso frame.
 from __future__ import annotations
 
 import functools
+import math
 import os
 import tempfile
 import xml.etree.ElementTree as ET
@@ -177,6 +178,18 @@ class LegGeometry:
             float(self.thigh[0]), float(self.thigh[2]), float(self.shank[0]), float(self.shank[2]),
             tuple(float(v) for v in self.sole),
             tuple(float(v) for v in self.lower), tuple(float(v) for v in self.upper)))
+        # What the IK derives from them every call: thigh and shank lengths, the knee's
+        # law-of-cosines terms, the knee angle's fixed part, the yaw-pitch axis' cos/sin.
+        hx, hz, kx, kz = self.consts[2:6]
+        lh, lk = math.hypot(hx, hz), math.hypot(kx, kz)
+        object.__setattr__(self, "derived", (
+            lh * lh, lk * lk, 2.0 * lh * lk, math.atan2(hx, -hz) - math.atan2(kx, -kz),
+            math.cos(self.consts[1]), math.sin(self.consts[1])))
+        # All of them in one float array for the compiled IK (`skills._kernels.solve_leg`).
+        hip, tilt, hx, hz, kx, kz, sole, lo, up = self.consts
+        object.__setattr__(self, "kconsts", np.array(
+            [*hip, tilt, hx, hz, kx, kz, *sole, *lo, *up, float(self.reach_min), float(self.reach_max),
+             *self.derived]))
 
 
 @dataclass(frozen=True)

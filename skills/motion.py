@@ -15,6 +15,7 @@ import numpy as np
 from models import nao
 from models.messages import Percept
 from models.rules import CYCLE
+from skills import _kernels as kernels
 from skills.control import UT_KP, JointPid, PidGains
 from skills.falls import Getup
 from skills.imu import TiltEstimator
@@ -22,6 +23,7 @@ from skills.walk import WalkEngine, WalkOutput
 
 HEAD = ("hj1", "hj2")
 HOLD_AFTER_GETUP = 1.0  # s the getup's last pose holds once the robot is up
+_EMPTY = np.zeros(0)  # joint_command's previous target or error when there is none
 SETTLE_AFTER_GETUP = 0.5  # s of the walk's stand after that, before the walk may go on
 GETUP_GAINS = (UT_KP, 0.0)  # joint kp (1/s) and feed-forward factor while a getup plays
 
@@ -62,12 +64,33 @@ class Motion:
     def command(self, target: np.ndarray, percept: Percept) -> np.ndarray:
         """Joint velocities (rad/s) toward `target` angles (rad, league order; NaN = hold)."""
         q = percept.joints
-        target = np.where(np.isnan(target), q if self._prev_target is None else
-                          np.where(np.isnan(self._prev_target), q, self._prev_target), target)
-        ff = 0.0 if self._prev_target is None else (target - self._prev_target) / CYCLE
+        prev = self._prev_target
+        pid = self.pid
+        if not pid.ki.any():  # the usual case: one compiled pass, the same floats
+            target = np.asarray(target, dtype=float)
+            q = np.asarray(q, dtype=float)
+            n = len(target)
+            new, err, v = np.empty(n), np.empty(n), np.empty(n)
+            has_prev, has_err = prev is not None, pid._prev is not None
+            kernels.joint_command(target, q, prev if has_prev else _EMPTY, has_prev,
+                                  pid._prev if has_err else _EMPTY, has_err, pid.kp, pid.kd, pid.dt,
+                                  self.max_speed, float(self.feedforward), CYCLE, new, err, pid._out, v)
+            pid._prev = err
+            self._prev_target = new
+            return v
+        nan = np.isnan(target)
+        if nan.any():  # walks leave the head NaN: hold it where it was (else where it is)
+            target = np.where(nan, q if prev is None else np.where(np.isnan(prev), q, prev), target)
+        else:
+            target = np.array(target, dtype=float)
         self._prev_target = target.copy()
-        v = self.pid(target, q) + self.feedforward * ff
-        return np.clip(v, -self.max_speed, self.max_speed)
+        v = self.pid(target, q)
+        if prev is None:
+            v = v + self.feedforward * 0.0
+        else:
+            v = v + self.feedforward * ((target - prev) / CYCLE)
+        # np.clip as minimum(maximum()): the same values without np.clip's Python layers.
+        return np.minimum(np.maximum(v, -self.max_speed), self.max_speed)
 
     def recover(self, percept: Percept) -> np.ndarray | None:
         """Joint velocities of a getup while the robot is down (or getting up), else None.

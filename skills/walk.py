@@ -160,6 +160,11 @@ def direction_to_xy(direction: float, max_x: float, max_y: float) -> tuple[float
     return math.copysign(x, c), math.copysign(y, s)
 
 
+def _clip(v: float, lo: float, hi: float) -> float:
+    """np.clip of one float (NaN stays NaN)."""
+    return lo if v < lo else hi if v > hi else v
+
+
 def _sigmoid(v: float) -> float:
     return 1.0 / (1.0 + math.exp(-v))
 
@@ -191,6 +196,19 @@ class WalkEngine:
         self.legs = {s: np.array([self.index[f"{s}lj{k}"] for k in range(1, 7)]) for s in "lr"}
         geo = self.ik.geom
         self.hip = {s: np.asarray(geo.leg(s).hip, dtype=float) for s in "lr"}
+        # _targets' indices, looked up once: each leg as a slice where its joints are
+        # consecutive (league order), the arm joints, the toes and ankle pitches.
+        self._leg_at = {}
+        for s, ix in self.legs.items():
+            start = int(ix[0])
+            run = np.array_equal(ix, np.arange(start, start + 6))
+            self._leg_at[s] = slice(start, start + 6) if run else ix
+        ix = self.index
+        self._arms = (ix["laj1"], ix["raj1"], ix["laj2"], ix["raj2"])
+        self._arms_zero = tuple(ix[n] for n in ("laj3", "raj3", "laj4", "raj4"))
+        self._toe = nao.robot_type(robot_type).toe
+        self._toes = tuple((ix[f"{s}lj7"], ix[f"{s}lj5"]) for s in "lr") if self._toe else ()
+        self._nan = np.full(len(self.names), np.nan)
         self.reset()
 
     def step_begins(self) -> bool:
@@ -229,24 +247,29 @@ class WalkEngine:
         if set_name not in self.sets:
             raise KeyError(f"unknown walk set {set_name!r}; sets are {', '.join(self.sets)}")
         p = self.params = self.sets[set_name]
-        desired = np.clip([x, y, turn], -1.0, 1.0) * [p.max_step_size_x, p.max_step_size_y,
-                                                       p.max_step_size_angle]
-        if desired[0] < 0:  # backward steps are shorter (the feet land toe first otherwise)
-            desired[0] *= p.backward_factor
-        moving = bool(np.any(np.abs(desired) > 1e-9))
+        # Scalar floats (the same operations as the 3-arrays they replaced, bit for bit).
+        mx, my, ma = p.max_step_size_x, p.max_step_size_y, p.max_step_size_angle
+        dx = _clip(float(x), -1.0, 1.0) * mx
+        dy = _clip(float(y), -1.0, 1.0) * my
+        dt_ = _clip(float(turn), -1.0, 1.0) * ma
+        if dx < 0:  # backward steps are shorter (the feet land toe first otherwise)
+            dx *= p.backward_factor
+        moving = abs(dx) > 1e-9 or abs(dy) > 1e-9 or abs(dt_) > 1e-9
         self.stop_time = 0.0 if moving else self.stop_time + self.dt
         # Proportional step-size filter, clamped at the maximum steps.
-        gain = np.array([p.pid_step_size_x, p.pid_step_size_y, p.pid_step_size_rot])
-        self.step = self.step + gain * (desired - self.step)
-        self.step = np.clip(self.step, -np.array([p.max_step_size_x, p.max_step_size_y,
-                                                   p.max_step_size_angle]),
-                            [p.max_step_size_x, p.max_step_size_y, p.max_step_size_angle])
+        s0, s1, s2 = self.step.tolist()
+        s0 = _clip(s0 + p.pid_step_size_x * (dx - s0), -mx, mx)
+        s1 = _clip(s1 + p.pid_step_size_y * (dy - s1), -my, my)
+        s2 = _clip(s2 + p.pid_step_size_rot * (dt_ - s2), -ma, ma)
         # Center-of-mass error feedback (sensed vs expected a cycle ago) shrinks the steps.
         if joints is not None and self.expected_com is not None:
-            err = float(np.max(np.abs(self.kin.com(joints)[:2] - self.expected_com[:2])))
+            com, exp = self.kin.com(joints), self.expected_com
+            err = max(abs(float(com[0] - exp[0])), abs(float(com[1] - exp[1])))
             span = max(p.max_acceptable_com_error - p.max_normal_com_error, 1e-6)
             self.step_factor = 1.0 - min(1.0, max(0.0, (err - p.max_normal_com_error) / span))
-            self.step *= self.step_factor
+            f = self.step_factor
+            s0, s1, s2 = s0 * f, s1 * f, s2 * f
+        self.step = np.array([s0, s1, s2])
         # Balance: the feet turn against the torso's tilt and roll (low-passed),
         # with gains pid_tilt and pid_roll: a torso falling forward presses its toes down.
         self.tilt += BALANCE_SMOOTHING * (tilt - self.tilt)
@@ -276,14 +299,14 @@ class WalkEngine:
         # Heading hold: the gyro measures how far the torso turned beyond (or short of)
         # the requested turn; the feet turn against that error (heading_gain per phase).
         turned = self.gyro[2] * self.dt if gyro is not None else self.turn_step * frac
-        self.heading_error += turned - self.step[2] * frac
+        self.heading_error += turned - s2 * frac
         limit = p.max_step_size_angle
-        wanted_turn = float(np.clip(self.step[2] - p.heading_gain * self.heading_error, -limit, limit))
+        wanted_turn = _clip(s2 - p.heading_gain * self.heading_error, -limit, limit)
         if new_phase:  # side step and turn are fixed for a whole step, so no foot changes lead
-            self.latched = (float(self.step[1]), wanted_turn)
+            self.latched = (s1, wanted_turn)
         self.turn_step = self.latched[1]
         targets = self._targets(standing=False)
-        odo = (self.step[0] * frac, self.latched[0] * frac, turned)
+        odo = (s0 * frac, self.latched[0] * frac, turned)
         return WalkOutput(targets, odo, False)
 
     def _swap(self) -> None:
@@ -380,26 +403,27 @@ class WalkEngine:
 
     def _targets(self, standing: bool) -> np.ndarray:
         p = self.params
-        q = np.full(len(self.names), np.nan)
+        q = self._nan.copy()
         feet = self.foot_targets(standing)
         for side, (pos, rpy) in feet.items():
             q6, _ = self.ik.solve(side, pos, rpy, target="ankle")
-            q[self.legs[side]] = q6
+            q[self._leg_at[side]] = q6
         # Arms hang with a little swing against the legs (pid_arm_x) for balance.
         swing_x = feet["l"][0][0] - feet["r"][0][0]
-        q[self.index["laj1"]] = p.arm_pitch - p.pid_arm_x * swing_x
-        q[self.index["raj1"]] = p.arm_pitch + p.pid_arm_x * swing_x
-        q[self.index["laj2"]] = p.arm_roll
-        q[self.index["raj2"]] = -p.arm_roll
-        for n in ("laj3", "raj3", "laj4", "raj4"):
-            q[self.index[n]] = 0.0
-        if nao.robot_type(self.robot_type).toe:
+        la1, ra1, la2, ra2 = self._arms
+        q[la1] = p.arm_pitch - p.pid_arm_x * swing_x
+        q[ra1] = p.arm_pitch + p.pid_arm_x * swing_x
+        q[la2] = p.arm_roll
+        q[ra2] = -p.arm_roll
+        for i in self._arms_zero:
+            q[i] = 0.0
+        if self._toe:
             t = 0.0 if standing else (self.phi - self.phi_start) / (self.phi_end - self.phi_start)
             toe = p.toe_amplitude * math.cos(t * math.pi + p.toe_phase_offset) + p.toe_const_offset
             ank = p.ankle_amplitude * math.cos(t * math.pi + p.ankle_phase_offset) + p.ankle_const_offset
-            for s in "lr":
-                q[self.index[f"{s}lj7"]] = toe
-                q[self.index[f"{s}lj5"]] += ank
+            for i_toe, i_ank in self._toes:
+                q[i_toe] = toe
+                q[i_ank] += ank
         full = np.where(np.isnan(q), 0.0, q)
         self.expected_com = self.kin.com(full)
         return q

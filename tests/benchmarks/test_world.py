@@ -33,3 +33,23 @@ def test_bad_options_exit_with_status_2(monkeypatch, capsys, argv):
         world.main()
     assert exc.value.code == 2
     assert "error" in capsys.readouterr().err
+
+
+def test_teams_and_stage_table(monkeypatch, capsys):
+    monkeypatch.setattr(sys, "argv", ["world", "--seconds", "0.2", "--home", "villa", "--players", "1",
+                                      "--stages", "--clock", "cpu"])
+    world.main()
+    lines = [json.loads(s) for s in capsys.readouterr().out.splitlines()]
+    assert [r["benchmark"] for r in lines] == ["world", "world_agent_stages"]
+    assert lines[0]["teams"] == {"L": "villa", "R": "posture"} and lines[0]["players"] == 2
+    villa = lines[1]["us_per_agent_cycle"]["L"]
+    assert villa["agent"] > 0 and {"world_model", "particle_filter", "body", "walk_engine"} <= set(villa)
+    assert villa["world_model"] <= villa["agent"] * 1.05  # inclusive, within the agent's cycle
+    assert "world_model" not in lines[1]["us_per_agent_cycle"]["R"]  # posture has none
+
+
+def test_unknown_team_exits_with_status_2(monkeypatch, capsys):
+    monkeypatch.setattr(sys, "argv", ["world", "--home", "nobody"])
+    with pytest.raises(SystemExit) as exc:
+        world.main()
+    assert exc.value.code == 2 and "unknown team" in capsys.readouterr().err

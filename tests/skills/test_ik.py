@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from skills.frames import matrix_to_rpy, rotation_angle
-from skills.ik import LegIK, arm_point_ik, leg_ik
+from skills.ik import LegIK, arm_point_ik, leg_ik, solve_leg, solve_leg_py
 from skills.kinematics import RobotKinematics, leg_geometry
 
 TYPES = [0, 1, 2, 3, 4]
@@ -184,3 +184,20 @@ def test_arm_pointing(kin, side):
     # Beyond the roll range (left arm across the chest, right arm across to the left).
     _, ok = arm_point_ik(arm, arm.shoulder + [0.05, -0.3 if side == "l" else 0.3, 0.0])
     assert not ok
+
+
+def test_compiled_leg_ik_is_the_python_one_bit_for_bit():
+    """skills._kernels.solve_leg follows solve_leg_py line for line (CPython's hypot, Python's
+    min/max/%): the same angles and reachability, reachable targets or not."""
+    rng = np.random.default_rng(7)
+    for t in (0, 4):
+        for side in "lr":
+            g = leg_geometry(t).leg(side)
+            for i in range(300):
+                sc = (0.02, 0.1, 0.3)[i % 3]
+                pos = np.array([0.0, 0.055 if side == "l" else -0.055, -0.2]) + rng.normal(0, sc, 3)
+                rpy = rng.normal(0, (0.05, 0.5, 2.0)[i % 3], 3)
+                target = "sole" if i % 2 else "ankle"
+                a, ok_a = solve_leg(g, pos, rpy, target)
+                b, ok_b = solve_leg_py(g, pos, rpy, target)
+                assert ok_a == ok_b and a.tobytes() == b.tobytes()

@@ -1,0 +1,269 @@
+"""The agent's hot loops, compiled with numba: the particle filter's odometry step
+and its line-matching scores.
+
+Each repeats its numpy original operation for operation (same order, same float
+widths, the same libm calls), so results are bit for bit those of the array code
+they replace; what goes is the dozen temporary arrays a call made. Random draws
+stay with the caller's numpy generator.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numba
+import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
+
+TWO_PI = 2.0 * math.pi
+
+
+def _njit(fn):
+    """`numba.njit(cache=True)`, compiled in memory where no cache directory is writable."""
+    try:
+        return numba.njit(cache=True)(fn)
+    except RuntimeError as exc:  # "cannot cache function ...: no locator available"
+        warnings.warn(f"agent kernels compile in memory, not cached: {exc}", RuntimeWarning,
+                      stacklevel=2)
+        return numba.njit(fn)
+
+
+@_njit
+def predict_particles(p: np.ndarray, z: np.ndarray, ex: float, ey: float, et: float,
+                      nx: float, ny: float, nt: float) -> None:
+    """Move particles p (n, 3: x, y, heading) in place by an odometry step (ex, ey, et)
+    (already scaled) perturbed by standard normal draws z (n, 3) times (nx, ny, nt);
+    headings wrapped into [-pi, pi)."""
+    for i in range(p.shape[0]):
+        ddx = ex * (1.0 + nx * z[i, 0])
+        ddy = ey * (1.0 + ny * z[i, 1])
+        ddt = et * (1.0 + nt * z[i, 2])
+        t = p[i, 2]
+        c, s = math.cos(t), math.sin(t)
+        p[i, 0] += c * ddx - s * ddy
+        p[i, 1] += s * ddx + c * ddy
+        a = t + ddt + math.pi
+        if not 0.0 <= a < TWO_PI:  # inside, a % TWO_PI is a itself (fmod is exact): skip it
+            a = a % TWO_PI
+        p[i, 2] = a - math.pi
+
+
+@intrinsic
+def _fma32(typingctx, a, b, c):
+    """a * b + c in float32 with one rounding (LLVM's fma intrinsic)."""
+    sig = types.float32(types.float32, types.float32, types.float32)
+
+    def codegen(context, builder, signature, args):
+        f32 = ir.FloatType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [f32], ir.FunctionType(f32, [f32] * 3))
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+@_njit
+def line_scores(b: np.ndarray, q: np.ndarray, m: int, k: int, reach: np.ndarray, ratio2: np.ndarray,
+                out: np.ndarray) -> None:
+    """Per particle, the sum over k observed lines of the best (lowest) score over m
+    known lines (`ParticleFilter._line_log_likelihood`).
+
+    b (3 m k, 7) float32 maps the particle features q (7, n) float32 to projections:
+    row (t m + j) k + l holds, for known line j and observed line l, t = 0 the
+    midpoint's coordinate along the known line, 1 its distance from it, 2 the angle
+    penalty (all over their sigmas). reach (m, k) is the half-length difference term,
+    ratio2 (m, k) the squared length ratio excess. out (n,) gets the float64 sums.
+
+    Each projection is the 7-term dot product as OpenBLAS's sgemm kernels form it
+    (a float32 fused multiply-add chain from zero, in feature order), so the result
+    is bit for bit that of `b @ q` followed by the array code this replaced; one
+    pass over the particles per (known, observed) line pair instead of ten passes
+    over 3 m k n temporaries, and no BLAS threads.
+    """
+    n = q.shape[1]
+    mk = m * k
+    zero = np.float32(0.0)
+    best = np.empty(n, dtype=np.float32)
+    for i in range(n):
+        out[i] = 0.0
+    for l in range(k):
+        for i in range(n):
+            best[i] = np.float32(np.inf)
+        for j in range(m):
+            ra, rp, rs = j * k + l, mk + j * k + l, 2 * mk + j * k + l
+            rj, r2 = reach[j, l], ratio2[j, l]
+            # The row coefficients as locals: loads LLVM need not repeat per particle
+            # (it cannot prove b is not `best`), so the particle loop vectorizes.
+            a0, a1, a2, a3, a4, a5, a6 = b[ra, 0], b[ra, 1], b[ra, 2], b[ra, 3], b[ra, 4], b[ra, 5], b[ra, 6]
+            p0, p1, p2, p3, p4, p5, p6 = b[rp, 0], b[rp, 1], b[rp, 2], b[rp, 3], b[rp, 4], b[rp, 5], b[rp, 6]
+            s0, s1, s2, s3, s4, s5, s6 = b[rs, 0], b[rs, 1], b[rs, 2], b[rs, 3], b[rs, 4], b[rs, 5], b[rs, 6]
+            for i in range(n):
+                q0, q1, q2, q3, q4, q5, q6 = q[0, i], q[1, i], q[2, i], q[3, i], q[4, i], q[5, i], q[6, i]
+                a = _fma32(a6, q6, _fma32(a5, q5, _fma32(a4, q4, _fma32(a3, q3, _fma32(
+                    a2, q2, _fma32(a1, q1, _fma32(a0, q0, zero)))))))
+                p = _fma32(p6, q6, _fma32(p5, q5, _fma32(p4, q4, _fma32(p3, q3, _fma32(
+                    p2, q2, _fma32(p1, q1, _fma32(p0, q0, zero)))))))
+                s = _fma32(s6, q6, _fma32(s5, q5, _fma32(s4, q4, _fma32(s3, q3, _fma32(
+                    s2, q2, _fma32(s1, q1, _fma32(s0, q0, zero)))))))
+                a = np.float32(np.float64(abs(a)) + rj)
+                a = a if a > zero else zero
+                s = s + a * a
+                s = s + p * p
+                s = np.float32(np.float64(s) + r2)
+                best[i] = s if s < best[i] else best[i]
+        for i in range(n):
+            out[i] += np.float64(best[i])
+
+
+@_njit
+def _row_sum(a: np.ndarray, n: int) -> float:
+    """Sum of a[:n] in numpy's order for a row of up to 128 (`np.sum(axis=-1)`): in turn
+    below 8 terms, else its 8-way unrolled pairwise sum."""
+    if n < 8:
+        res = 0.0
+        for i in range(n):
+            res += a[i]
+        return res
+    r0, r1, r2, r3, r4, r5, r6, r7 = a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]
+    i = 8
+    while i < n - n % 8:
+        r0 += a[i]
+        r1 += a[i + 1]
+        r2 += a[i + 2]
+        r3 += a[i + 3]
+        r4 += a[i + 4]
+        r5 += a[i + 5]
+        r6 += a[i + 6]
+        r7 += a[i + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += a[i]
+        i += 1
+    return res
+
+
+@_njit
+def landmark_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.ndarray,
+                            lm: np.ndarray, obs: np.ndarray, r_obs: np.ndarray, w_dist: np.ndarray,
+                            k_bearing: float, out: np.ndarray) -> None:
+    """out[i] = -0.5 sum_j (distance error_ij w_dist_j)^2 + (2 - 2 cos bearing error_ij) k_bearing
+    for particles (px, py, heading with cosine c and sine s) and k landmarks at lm (k, 2)
+    seen at obs (k, 2) (level frame; r_obs their distances): the array code of
+    `ParticleFilter._log_likelihood` (its (n, k) temporaries and row sums) per particle."""
+    k = lm.shape[0]
+    dr = np.empty(k)
+    for i in range(px.shape[0]):
+        x, y, cc, ss = px[i], py[i], c[i], s[i]
+        for j in range(k):
+            ex = lm[j, 0] - x
+            ey = lm[j, 1] - y
+            r_exp = math.sqrt(ex * ex + ey * ey)
+            cos_d = ex * (cc * obs[j, 0] - ss * obs[j, 1])
+            cos_d += ey * (ss * obs[j, 0] + cc * obs[j, 1])
+            cos_d /= r_exp * r_obs[j] + 1e-9
+            d = (r_exp - r_obs[j]) * w_dist[j]
+            d *= d
+            d += (2.0 - 2.0 * cos_d) * k_bearing
+            dr[j] = d
+        out[i] = 0.0 - 0.5 * _row_sum(dr, k)
+
+
+@_njit
+def resample_into(particles: np.ndarray, weights: np.ndarray, u0: float, noise: np.ndarray,
+                  walk_xy: float, walk_theta: float, out: np.ndarray) -> None:
+    """Systematic resampling of len(noise) particles into out[:len(noise)]: positions
+    (u0 + i) / len(noise) in the cumulative weights (its last entry set to 1), each drawn
+    particle plus its row of noise times (walk_xy, walk_xy, walk_theta). The array code
+    of `ParticleFilter._resample` in one pass."""
+    cum = np.cumsum(weights)
+    cum[-1] = 1.0
+    n_keep = noise.shape[0]
+    pos = (u0 + np.arange(n_keep)) * (1.0 / n_keep)
+    idx = np.searchsorted(cum, pos)
+    for i in range(n_keep):
+        r = idx[i]
+        out[i, 0] = particles[r, 0] + noise[i, 0] * walk_xy
+        out[i, 1] = particles[r, 1] + noise[i, 1] * walk_xy
+        out[i, 2] = particles[r, 2] + noise[i, 2] * walk_theta
+
+
+@_njit
+def seed_poses(lm: np.ndarray, obs: np.ndarray, i: np.ndarray, j: np.ndarray, z: np.ndarray,
+               sigma_theta: float, out: np.ndarray) -> None:
+    """Sensor resetting (`ParticleFilter._seed_from_landmarks`): row r of out (k, 3) gets
+    the pose that puts landmark i[r] (at lm, team frame) where it was seen (obs, level
+    frame), its heading from the pair (i[r], j[r]) plus z[r] sigma_theta when j is not
+    empty, else the heading already in out[r, 2]."""
+    for r in range(out.shape[0]):
+        a = i[r]
+        if j.shape[0]:
+            b = j[r]
+            theta = math.atan2(lm[b, 1] - lm[a, 1], lm[b, 0] - lm[a, 0]) - math.atan2(
+                obs[b, 1] - obs[a, 1], obs[b, 0] - obs[a, 0])
+            theta += z[r] * sigma_theta
+        else:
+            theta = out[r, 2]
+        c, s = math.cos(theta), math.sin(theta)
+        out[r, 0] = lm[a, 0] - (c * obs[a, 0] - s * obs[a, 1])
+        out[r, 1] = lm[a, 1] - (s * obs[a, 0] + c * obs[a, 1])
+        out[r, 2] = theta
+
+
+@_njit
+def line_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.ndarray, seg: np.ndarray,
+                        length: np.ndarray, w_all: np.ndarray, known_len: np.ndarray, inv_distance: float,
+                        sigma_ratio: float, out: np.ndarray) -> None:
+    """out (n,) = the line log-likelihood of `ParticleFilter._line_log_likelihood` for
+    particles (px, py, heading cosines c and sines s), observed lines seg (K, 2, 2) with
+    lengths `length`, against the known lines' rows w_all (3 m, 5) and lengths known_len.
+
+    The same floats as its array code: every entry of its einsum has at most two nonzero
+    products (the row and feature patterns are sparse), so summing them in turn gives
+    its value; then `line_scores`."""
+    k = seg.shape[0]
+    m = known_len.shape[0]
+    n = px.shape[0]
+    g = np.zeros((5, 7))
+    b = np.empty((3 * m * k, 7), dtype=np.float32)
+    for l in range(k):
+        mx = (seg[l, 0, 0] + seg[l, 1, 0]) / 2.0
+        my = (seg[l, 0, 1] + seg[l, 1, 1]) / 2.0
+        a2 = 2.0 * math.atan2(seg[l, 1, 1] - seg[l, 0, 1], seg[l, 1, 0] - seg[l, 0, 0])
+        ca, sa = math.cos(a2), math.sin(a2)
+        g[0, 1] = 1.0
+        g[0, 3], g[0, 4] = mx, -my
+        g[1, 2] = 1.0
+        g[1, 3], g[1, 4] = my, mx
+        g[2, 5], g[2, 6] = ca, -sa
+        g[3, 5], g[3, 6] = sa, ca
+        g[4, 0] = 1.0
+        for j in range(3 * m):
+            for f in range(7):
+                acc = 0.0
+                for e in range(5):
+                    acc += w_all[j, e] * g[e, f]
+                b[j * k + l, f] = np.float32(acc)
+    q = np.empty((7, n), dtype=np.float32)
+    for i in range(n):
+        ci, si = c[i], s[i]
+        q[0, i] = np.float32(1.0)
+        q[1, i] = np.float32(px[i])
+        q[2, i] = np.float32(py[i])
+        q[3, i] = np.float32(ci)
+        q[4, i] = np.float32(si)
+        q[5, i] = np.float32(ci * ci - si * si)
+        q[6, i] = np.float32(2.0 * ci * si)
+    reach = np.empty((m, k))
+    ratio2 = np.empty((m, k))
+    for j in range(m):
+        for l in range(k):
+            r = length[l] / known_len[j] - 1.0
+            r = (r if r >= 0.0 else 0.0) / sigma_ratio
+            ratio2[j, l] = r * r
+            reach[j, l] = (0.5 * length[l] - 0.5 * known_len[j]) * inv_distance
+    line_scores(b, q, m, k, reach, ratio2, out)
+    for i in range(n):
+        out[i] = -0.5 * out[i]
