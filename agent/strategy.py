@@ -146,6 +146,18 @@ def walking_cost(m: Mate, target: np.ndarray, obstacles: np.ndarray | None = Non
     return cost
 
 
+def walking_costs(players: Sequence[Mate], targets: np.ndarray) -> np.ndarray:
+    """`walking_cost` (no obstacles) of every player (rows) to every target (columns)."""
+    xs = np.array([[m.x, m.y, m.heading, m.fallen] for m in players], dtype=float).reshape(-1, 4)
+    t = np.asarray(targets, dtype=float).reshape(-1, 2)
+    dx = t[None, :, 0] - xs[:, None, 0]
+    dy = t[None, :, 1] - xs[:, None, 1]
+    dist = np.hypot(dx, dy)
+    turn = np.abs(wrap(np.arctan2(dy, dx) - xs[:, None, 2])) / math.pi
+    turn = np.where(dist > FACE_BALL_WITHIN, turn, 0.0)
+    return dist + TURN_COST * turn + FALLEN_PENALTY * xs[:, None, 3]
+
+
 BALL_RADIUS_PATH = 0.3  # m kept from the ball by a walk that must not push it (PathCost)
 ON_BALL_RADIUS_PATH = COLLISION  # m kept from the on-ball player (PathCost)
 
@@ -234,7 +246,10 @@ def assign_roles(view: TeamView, targets: np.ndarray, method: str = "mmd-msd2",
     k = min(len(known), len(free_roles))
     if k:
         use = free_roles[:k]
-        cost = np.array([[walking_cost(m, targets[r], obstacles) for r in use] for m in known[:k]])
+        if obstacles is None or not len(obstacles):
+            cost = walking_costs(known[:k], targets[use])
+        else:
+            cost = np.array([[walking_cost(m, targets[r], obstacles) for r in use] for m in known[:k]])
         pick = assign_costs(cost, method)
         for m, j in zip(known[:k], pick):
             roles[m.unum - 2] = use[int(j)]
@@ -443,5 +458,5 @@ __all__ = [
     "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "assign_roles", "avoid", "closeness",
     "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away", "kick_score",
     "kick_scores", "on_ball_player", "opponent_near_ball", "own_half", "pass_target", "path_obstacles",
-    "role_obstacles", "role_positions", "shot_target", "walking_cost",
+    "role_obstacles", "role_positions", "shot_target", "walking_cost", "walking_costs",
 ]

@@ -161,3 +161,11 @@ def test_the_kickoff_taker_can_be_left_out():
     v = view(me=(-0.2, 0.0, 0.0), ball=(1.5, 1.5), mates=(near,), unum=2)
     assert st.on_ball_player(v) == 2
     assert st.on_ball_player(v, exclude=2) == 3
+
+
+def test_walking_costs_match_the_single_cost():
+    rng = np.random.default_rng(5)
+    players = [st.Mate(u, *rng.uniform(-10, 10, 2), rng.uniform(-3, 3), bool(u % 2)) for u in range(2, 8)]
+    targets = rng.uniform(-10, 10, (5, 2))
+    want = np.array([[st.walking_cost(m, t) for t in targets] for m in players])
+    assert np.allclose(st.walking_costs(players, targets), want, rtol=0, atol=1e-12)
