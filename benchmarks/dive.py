@@ -15,83 +15,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
-from dataclasses import dataclass
 
 import numpy as np
 
 from benchmarks.machine import machine
-from models import nao
-from models.messages import Action
-from models.scene import Lineup
-from server.trainer import Trainer
-from skills.dive import DIVES, Dive
-
-LIMIT = 10.0  # s from the dive's start to standing again
-LOW = 0.5  # the torso is down below this fraction of the standing height
-
-
-@dataclass
-class DiveRun:
-    """Ground truth of one dive (lateral: m along the robot's starting left, from its start)."""
-
-    ground: float | None  # s until the torso was below LOW x standing height
-    reach_left: float  # farthest any collision geom got to the left while diving and down
-    reach_right: float  # ... to the right (negative)
-    torso_lateral: float  # torso displacement to the left when the robot was down
-    up_after: float | None  # s until the dive reported done
-    upright_at_end: bool  # torso up and high when done, and still so 0.5 s later
-    times: dict  # s from the dive's start at which each phase (last) began
-
-
-def run_dive(robot_type: int, name: str, seed: int) -> DiveRun:
-    """A robot stands still (walk stand, seeded heading and joint noise), then plays `name`."""
-    rng = np.random.default_rng(seed)
-    trainer = Trainer(Lineup((robot_type,), ()), seed=seed, vision=False)
-    w = trainer.world
-    dive = Dive(robot_type, name)
-    q = dive.motion.walk.update(0.0, 0.0, 0.0).targets
-    q = np.where(np.isnan(q), 0.0, q) + rng.normal(0.0, 0.01, q.shape)
-    dive.motion.reset()
-    heading = float(rng.uniform(-math.pi, math.pi))
-    w.place_ball((10.0, 8.0))
-    w.place_robot(0, 0.0, 0.0, heading, joints=q)
-    w.settle_height(0)
-    for _ in range(25):
-        pc = trainer.percepts()[0]
-        trainer.step({0: Action(dive.motion.walk_step(pc, 0.0, 0.0, 0.0))})
-    p = w.players[0]
-    geoms = [g for g in range(p.geoms[0], p.geoms[1] + 1) if w.model.geom_contype[g]]
-    start = w.torso_positions()[0].copy()
-    left = np.array([-math.sin(heading), math.cos(heading)])
-    stand = nao.standing_height(robot_type)
-    t0 = w.time
-    ground, up_after = None, None
-    reach_l = reach_r = lateral = 0.0
-    while w.time - t0 < LIMIT and up_after is None:
-        pc = trainer.percepts()[0]
-        trainer.step({0: Action(dive.step(pc))})
-        torso = w.torso_positions()[0]
-        if ground is None and torso[2] < LOW * stand:
-            ground = w.time - t0
-        if dive.phase in ("dive", "down"):
-            y = (w.data.geom_xpos[geoms, :2] - start[:2]) @ left
-            reach_l, reach_r = max(reach_l, float(y.max())), min(reach_r, float(y.min()))
-            lateral = float((torso[:2] - start[:2]) @ left)
-        if dive.done:
-            up_after = w.time - t0
-
-    def upright() -> bool:
-        return bool(w.torso_up()[0] > 0.9 and w.torso_positions()[0, 2] > 0.8 * stand)
-
-    ok = up_after is not None and upright()
-    for _ in range(25):  # it keeps standing
-        pc = trainer.percepts()[0]
-        trainer.step({0: Action(dive.step(pc))})
-    times = {k: v - t0 for k, v in dive.times.items()}
-    return DiveRun(ground, reach_l, reach_r, lateral, up_after, ok and upright(), times)
-
+from optimization.trials import run_dive
+from skills.dive import DIVES
 
 
 def dive_stats(robot_type: int, name: str, tries: int) -> dict:

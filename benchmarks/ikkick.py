@@ -22,118 +22,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import platform
 import time
 import zlib
 
-import mujoco
 import numpy as np
 
-from agent.kicker import SKILL_GAINS
-from benchmarks.walk import new_robot
-from models import nao
-from models.field import BALL_RADIUS
-from models.geometry import Pose2, wrap
-from models.messages import Action
-from models.robot import robot_mjcf
-from skills.kicks.ik import IkKick, ik_kicks
-
-CLEARANCE_SAMPLES = 80  # samples of the backswing checked by `backswing_clearance`
-
-
-def kick_trial(t: int, kick: IkKick, offset: tuple[float, float] = (0.0, 0.0), roll: float = 3.0,
-               stand: float = 0.5) -> dict:
-    """One kick in physics; returns distance (m), direction (rad, robot frame at the start),
-    along (m, displacement along spec.direction), fell, and the direction's deviation
-    from spec.direction (rad, + to the left) and its size (error)."""
-    tr, mo = new_robot(t)
-    w = tr.world
-    for _ in range(round(stand / 0.02)):  # stand and kick at the kicks' gains, as the Kicker does
-        tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0, kp=SKILL_GAINS[0]))})
-    mo.skill_gains(SKILL_GAINS)
-    x0, y0, h0 = w.player_pose(0)
-    start = Pose2(x0, y0, h0)
-    bx, by = kick.spec.ball[0] + offset[0], kick.spec.ball[1] + offset[1]
-    w.place_ball(start.to_world(bx, by))
-    b0 = w.ball_position()[:2].copy()
-    kick.reset((bx, by))
-    fell = False
-    while not kick.done:
-        pc = tr.percepts()[0]
-        tr.step({0: Action(mo.command(kick.step(pc), pc))})
-        if w.torso_up()[0] < 0.5:
-            fell = True
-            break
-    mo.reset()
-    n = round(roll / 0.02)
-    for _ in range(n):
-        if fell or np.linalg.norm(w.ball_velocity()[:2]) < 0.02:
-            break
-        tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0))})
-        if w.torso_up()[0] < 0.5:
-            fell = True
-    rest = w.ball_rest_position()  # a ball still rolling is carried on to its stop
-    dx, dy = Pose2(b0[0], b0[1], h0).to_local(rest[0], rest[1])
-    dist = math.hypot(dx, dy)
-    direction = math.atan2(dy, dx)
-    a = kick.spec.direction
-    along = dx * math.cos(a) + dy * math.sin(a)
-    return {"distance": dist, "direction": direction, "along": along, "fell": fell,
-            "deviation": wrap(direction - a), "error": abs(wrap(direction - a))}
-
-
-class _Scene:
-    """One robot of a type and a free-floating ball geom, posed kinematically (no physics)."""
-
-    def __init__(self, robot_type: int) -> None:
-        xml = robot_mjcf(robot_type).replace(
-            "</worldbody>", f'<body name="ball" mocap="true"><geom name="ball" type="sphere" '
-            f'size="{BALL_RADIUS}" contype="0" conaffinity="0"/></body></worldbody>')
-        self.model = mujoco.MjModel.from_xml_string(xml)
-        self.data = mujoco.MjData(self.model)
-        m = self.model
-        self.qadr = np.array([m.jnt_qposadr[m.joint(n).id] for n in nao.joint_names(robot_type)])
-        self.ball = m.geom("ball").id
-        self.leg = {side: [g for g in range(m.ngeom) if m.body(m.geom_bodyid[g]).name in
-                           (f"{side}shank", f"{side}ankle", f"{side}foot", f"{side}toe")]
-                    for side in "lr"}
-
-
-_SCENES: dict[int, _Scene] = {}
-
-
-def backswing_clearance(kick: IkKick, ball: tuple[float, float] | None = None) -> tuple[float, float]:
-    """Least distance (m) between the ball and the kicking shank, ankle, foot or toe while
-    the foot swings back, before the strike; and the normalized swing time of it.
-
-    Kinematics only: the torso upright where the kick puts it, the legs at the
-    kick's IK targets, the ball at `ball` (robot frame, m; default the spec's). The
-    backswing runs to the pull-back: the waypoint farthest back against the kick's
-    direction. A backswing that grazes the ball rolls it off the strike's path (type
-    4's toe clipped it in most walking IK 45-in kicks). Leaves `kick` reset to the
-    spec's ball."""
-    sc = _SCENES.setdefault(kick.robot_type, _Scene(kick.robot_type))
-    m, d = sc.model, sc.data
-    kick.reset(ball)
-    u = np.array([math.cos(kick.spec.direction), math.sin(kick.spec.direction)])
-    back = min(kick.params.waypoints, key=lambda w: float(u @ w.pos[:2])).t
-    d.mocap_pos[0] = [kick.ball[0], kick.ball[1], BALL_RADIUS]
-    best, at = math.inf, 0.0
-    for s in np.linspace(0.0, back, CLEARANCE_SAMPLES + 1):
-        t = kick.params.shift_time + float(s) * kick.params.swing_time
-        _, torso, _ = kick.pose_at(t)
-        q = kick.targets_at(t)
-        d.qpos[:3] = torso
-        d.qpos[3:7] = [1.0, 0.0, 0.0, 0.0]
-        d.qpos[sc.qadr] = np.where(np.isnan(q), 0.0, q)
-        mujoco.mj_kinematics(m, d)
-        for g in sc.leg[kick.kick_side]:
-            dist = mujoco.mj_geomDistance(m, d, sc.ball, g, 0.5, None)
-            if dist < best:
-                best, at = dist, float(s)
-    kick.reset()
-    return best, at
+from optimization.trials import backswing_clearance, kick_trial
+from skills.kicks.ik import ik_kicks
 
 
 def run(types, names, tries, seed, jitter, params, roll) -> list[dict]:

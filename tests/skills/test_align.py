@@ -110,7 +110,7 @@ def test_after_a_walk_the_rocking_stand_rarely_falls_aligning():
     # Started 0.5-0.8 s after a walk stops, as in the ball approach, when the stand rocks
     # at about 6.5 Hz. Type 3 fell worst: the IK kicks' 0.6 s shift and 15 mm lift fell
     # 9 times in these 64 moves (18% over 300 others), the shipped values 4.
-    from benchmarks.align import align_errors
+    from optimization.trials import align_errors
 
     row = align_errors(3, tries=64, move=0.05, turn=18.0, seed=5, start="walk")
     assert row["falls"] <= 5, row

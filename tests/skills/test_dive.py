@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from benchmarks.dive import LIMIT, run_dive
 from models import nao
 from models.messages import Action
 from models.scene import Lineup
+from optimization.trials import LIMIT, run_dive
 from server.trainer import Trainer
 from skills.dive import DIVES, Dive, load_dive_skills
 from skills.params import ParamError

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from benchmarks.ikkick import kick_trial
+from optimization.trials import kick_trial
 from skills.kicks.ik import (
     KINDS,
     UnreachableKick,
@@ -189,7 +189,7 @@ def test_the_backswing_clears_the_ball_before_the_strike(robot_type):
     """Kinematics: pulling back, the kicking leg passes the ball at the kick's offset by at
     least 2 mm (type 4's toe grazed it in its 45 deg inward kick, -3 mm, and rolled the
     ball off the strike's path in most walking kicks); a ball 3 cm nearer is grazed."""
-    from benchmarks.ikkick import backswing_clearance
+    from optimization.trials import backswing_clearance
 
     for name, kick in ik_kicks(robot_type).items():
         clear, s = backswing_clearance(kick)
@@ -205,7 +205,7 @@ def test_the_45_out_backswing_clears_the_ball_anywhere_in_its_box(robot_type):
     in its tolerance box the approach leaves it (a lift that touched the ball pushed it
     away before the swing: 3 of 20 of type 3's standing right kicks went 0.5 m with an
     earlier swing); a ball 20 mm nearer than the box's edge is touched."""
-    from benchmarks.ikkick import backswing_clearance
+    from optimization.trials import backswing_clearance
 
     kicks = ik_kicks(robot_type)
     for name in ("ik_45_out_left", "ik_45_out_right"):
