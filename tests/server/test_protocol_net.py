@@ -193,3 +193,53 @@ def test_lobby_refuses_taken_numbers_and_a_third_team():
 def test_bad_server_settings():
     with pytest.raises(ValueError, match="players"):
         NetServer(port=0, players=0)
+
+
+def test_cli_server_and_agents(tmp_path, capsys):
+    """`soccer server` and two `soccer agent`s play a short match to GameOver."""
+    import json
+    import time
+
+    from cli.main import main
+    s = socket.socket()
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    rc = {}
+    out = tmp_path / "result.json"
+    server = threading.Thread(target=lambda: rc.setdefault("server", main([
+        "server", "--port", str(port), "--players", "2", "--sync", "--half-time", "0.1", "--quiet",
+        "--out", str(out)])), daemon=True)
+    server.start()
+    agents = []
+    for name in ("A", "B"):
+        for _ in range(200):  # until the server listens
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                time.sleep(0.02)
+        th = threading.Thread(target=lambda n=name: rc.setdefault(n, main([
+            "agent", "--port", str(port), "--team", n, "--unum", "1", "--team-impl", "posture"])),
+            daemon=True)
+        th.start()
+        agents.append(th)
+    server.join(60)
+    for th in agents:
+        th.join(10)
+    assert rc == {"server": 0, "A": 0, "B": 0}
+    result = json.loads(out.read_text())
+    assert result["game_time"] == pytest.approx(0.2) and result["teams"] == {"L": "A", "R": "B"} or \
+        result["teams"] == {"L": "B", "R": "A"}
+    assert "GameOver" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["agent", "--team", "a b"], "team name"), (["agent", "--team", "A", "--unum", "12"], "unum"),
+    (["server", "--players", "0"], "players"), (["server", "--port", "x"], "port"),
+])
+def test_cli_bad_options(args, needle, capsys):
+    from cli.main import main
+    with pytest.raises(SystemExit) as e:
+        main(args)
+    assert e.value.code == 2 and needle in capsys.readouterr().err
