@@ -36,6 +36,7 @@ What the league sends that we approximate or leave out:
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import struct
@@ -207,6 +208,22 @@ def _sole_names(robot_type: int) -> list[str]:
     return ["lfoot", "rfoot"] + (["ltoe", "rtoe"] if nao.robot_type(robot_type).toe else [])
 
 
+@functools.cache
+def _joint_names(robot_type: int) -> tuple[str, ...]:
+    """Perceptor names in the league's order (cached: `nao.joints` builds the link table)."""
+    return tuple(nao.joint_names(robot_type))
+
+
+@functools.cache
+def _effector_names(robot_type: int) -> tuple[str, ...]:
+    return tuple(j.effector for j in nao.joints(robot_type))
+
+
+@functools.cache
+def _soles(robot_type: int) -> tuple[str, ...]:
+    return tuple(_sole_names(robot_type))
+
+
 # ------------------------------------------------------------------------ percepts
 
 
@@ -261,14 +278,14 @@ def format_percept(p: Percept, team: str = "left", opponent: str = "right", firs
     a = _to_simspark(p.accel).tolist()
     out.append(f"(GYR (n torso) (rt {f(g[0])} {f(g[1])} {f(g[2])}))"
                f"(ACC (n torso) (a {f(a[0])} {f(a[1])} {f(a[2])}))")
-    names = nao.joint_names(p.robot_type)
+    names = _joint_names(p.robot_type)
     deg = (np.asarray(p.joints, dtype=float) * _DEG).tolist()
     hj = [f"(HJ (n {n}) (ax {f(d)}))" for n, d in zip(names, deg)]
     out.extend(hj[:2])
     if p.vision is not None:
         out.append(format_vision(p.vision, team, opponent, digits))
     out.extend(hj[2:])
-    for sole, force in zip(_sole_names(p.robot_type), np.asarray(p.foot_forces, dtype=float).tolist()):
+    for sole, force in zip(_soles(p.robot_type), np.asarray(p.foot_forces, dtype=float).tolist()):
         if force != 0.0:
             out.append(f"(FRP (n {FOOT_NAMES[sole]}) (c {f(0.0)} {f(0.0)} {f(SOLE_Z)})"
                        f" (f {f(0.0)} {f(0.0)} {f(force)}))")
@@ -311,7 +328,7 @@ class PerceptParser:
         self.robot_type = robot_type
         self.unum = unum
         self.side = side
-        self.names = nao.joint_names(robot_type)
+        self.names = _joint_names(robot_type)
         self._index = {n: i for i, n in enumerate(self.names)}
         self.joints = np.zeros(len(self.names))
         self.soles = _sole_names(robot_type)
@@ -445,7 +462,7 @@ class PerceptParser:
 def format_action(a: Action, robot_type: int, syn: bool = True, digits: int | None = 5) -> str:
     """An agent's answer: every hinge effector (rad/s), then beam (m, m, deg), say and syn."""
     f = _fmt(digits)
-    effs = [j.effector for j in nao.joints(robot_type)]
+    effs = _effector_names(robot_type)
     v = np.asarray(a.joint_velocities, dtype=float).tolist()
     out = [f"({e} {f(x)})" for e, x in zip(effs, v)]
     if a.beam is not None:
@@ -542,11 +559,12 @@ def velocities(msg: AgentMessage, robot_type: int, previous: np.ndarray | None =
     """The joint velocities (rad/s, league order) after `msg`: effectors not named keep
     their previous value, as SimSpark's motors do. Effectors of another robot type
     (lle7 on a type 0) are ignored."""
-    js = nao.joints(robot_type)
-    out = np.zeros(len(js)) if previous is None else np.array(previous, dtype=float)
+    effs = _effector_names(robot_type)
+    out = np.zeros(len(effs)) if previous is None else np.array(previous, dtype=float)
     if msg.velocities:
-        for i, j in enumerate(js):
-            v = msg.velocities.get(j.effector)
+        get = msg.velocities.get
+        for i, e in enumerate(effs):
+            v = get(e)
             if v is not None:
                 out[i] = v
     return out
