@@ -75,7 +75,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 # Subcommands that live beside the packages they drive (render, batch, optimize).
 # Each module has register(subparsers) -> {name: handler(args) -> exit code}.
-PLUGINS = ("cli.render_cmd", "cli.batch_cmd", "cli.optimize_cmd")
+PLUGINS = ("cli.render_cmd", "cli.batch_cmd", "cli.optimize_cmd", "cli.server_cmd",
+           "cli.agent_cmd")
 
 
 def _plugins() -> list:
