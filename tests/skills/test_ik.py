@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from skills.frames import matrix_to_rpy, rotation_angle
-from skills.ik import LegIK, arm_point_ik, leg_ik, solve_leg, solve_leg_py
+from skills.ik import LegIK, arm_point_ik, leg_ik, solve_leg
 from skills.kinematics import RobotKinematics, leg_geometry
+from tests.skills.ik_reference import solve_leg_py
 
 TYPES = [0, 1, 2, 3, 4]
 SIDES = ["l", "r"]
