@@ -19,6 +19,10 @@ joint velocities from then on and the match records `agent_crashed`. Malformed
 messages and unknown commands are logged for that agent and otherwise ignored.
 Memory per connection is bounded: one incoming frame (`MAX_AGENT_MESSAGE`) and
 `MAX_OUTGOING` bytes of unsent percepts.
+
+With `monitor_port` the server also opens the league's monitor port
+(`server.monitor.MonitorServer`): monitors may connect from the start and get
+the scene after every `monitor_interval` cycles of the match.
 """
 
 from __future__ import annotations
