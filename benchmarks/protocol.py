@@ -1,6 +1,8 @@
 """Cost of the league's protocol per cycle: format + parse of every agent's percept and action.
 
 Run: python -m benchmarks.protocol [--home N] [--away N] [--cycles C] [--repeats R]
+The last line is the monitor port's cost per update (server.monitor): with no monitor
+connected (one select) and with one reading monitor (kinematics, format, send).
 Prints JSON lines: the machine, then microseconds per agent (percept format, percept
 parse, action format, action parse; vision cycles and others apart, and their mean over
 the 3-cycle vision period) and the whole protocol's cost per 20 ms cycle for every agent
@@ -78,6 +80,50 @@ def main(argv: list[str] | None = None) -> None:
         (v["format_percept_us"] + v["parse_action_us"]
          + (VISION_PERIOD - 1) * (o["format_percept_us"] + o["parse_action_us"])) / VISION_PERIOD), 2)
     print(json.dumps(out), flush=True)
+    print(json.dumps(monitor_cost(m, 50)), flush=True)
+
+
+def monitor_cost(m, updates: int) -> dict:
+    """Microseconds per monitor update of Match m (no monitor / one reading monitor)."""
+    import socket
+    import threading
+
+    from server.monitor import MonitorServer, game_state
+    from server.protocol import encode_frame
+
+    mon = MonitorServer(port=0)
+    try:
+        t0 = time.perf_counter()
+        for _ in range(updates):
+            mon.update(m)
+        idle = (time.perf_counter() - t0) / updates
+        sock = socket.create_connection(mon.address, timeout=10)
+
+        def drain():
+            while True:
+                try:
+                    data = sock.recv(1 << 20)
+                except OSError:
+                    return
+                if not data:
+                    return
+        th = threading.Thread(target=drain, daemon=True)
+        th.start()
+        while not mon.clients:
+            mon.poll(m)
+        mon.update(m)  # the full graph
+        t0 = time.perf_counter()
+        for _ in range(updates):
+            mon.update(m)
+        busy = (time.perf_counter() - t0) / updates
+        scene = mon.scene
+        delta = len(encode_frame(game_state(m, False) + scene.graph(False)))
+        full = len(encode_frame(game_state(m, True) + scene.graph(True)))
+    finally:
+        mon.close()
+    return {"monitor": {"robots": len(m.world.players), "no_monitor_us": round(idle * 1e6, 1),
+                        "one_monitor_us": round(busy * 1e6, 1), "delta_bytes": delta,
+                        "full_bytes": full}}
 
 
 if __name__ == "__main__":

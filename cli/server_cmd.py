@@ -10,6 +10,8 @@ from cli.args import check_writable, checked, half_time, seed
 
 _port = checked(int, "port must be a whole number", lambda n: 0 <= n <= 65535, "port must be 0 to 65535")
 _players = checked(int, "players must be a whole number", lambda n: 1 <= n <= 22, "players must be 1 to 22")
+_interval = checked(int, "interval must be a whole number", lambda n: 1 <= n <= 1000,
+                    "interval must be 1 to 1000 cycles")
 _seconds = checked(float, "expected a number of seconds", lambda v: 0 < v <= 3600,
                    "seconds must be positive and at most 3600")
 
@@ -43,6 +45,10 @@ def register(subparsers) -> dict:
     p.add_argument("--half-time", type=half_time, default=300.0, metavar="SECONDS",
                    help="game seconds per half (default 300)")
     p.add_argument("--seed", type=seed, default=0, help="random seed (default 0)")
+    p.add_argument("--monitor-port", type=_port, metavar="PORT",
+                   help="serve rcssserver3d's monitor protocol (RoboViz) here, e.g. 3200 (default: off)")
+    p.add_argument("--monitor-interval", type=_interval, default=1, metavar="CYCLES",
+                   help="cycles between monitor updates (default 1: 50 Hz)")
     p.add_argument("--out", type=Path, help="write the result as JSON here")
     p.add_argument("--log", type=Path, help="write the match log (.npz) here")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -61,10 +67,13 @@ def cmd_server(args: argparse.Namespace) -> int:
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(message)s")
     srv = NetServer(args.host, args.port, sync=args.sync, half_time=args.half_time, seed=args.seed,
                     players=args.players, wait=args.wait, timeout=args.timeout,
-                    record=args.log is not None)
+                    record=args.log is not None, monitor_port=args.monitor_port,
+                    monitor_interval=args.monitor_interval)
     host, port = srv.address
     print(f"listening on {host}:{port} for {args.players} agents"
           f" ({'sync' if args.sync else 'real-time'} mode)", flush=True)
+    if srv.monitor is not None:
+        print(f"monitor port {srv.monitor.address[0]}:{srv.monitor.address[1]}", flush=True)
     srv.join()
     m = srv.build()
     print(f"playing {m.team_names[0]} {list(m.lineup.left)} vs {m.team_names[1]} {list(m.lineup.right)}",

@@ -19,6 +19,10 @@ joint velocities from then on and the match records `agent_crashed`. Malformed
 messages and unknown commands are logged for that agent and otherwise ignored.
 Memory per connection is bounded: one incoming frame (`MAX_AGENT_MESSAGE`) and
 `MAX_OUTGOING` bytes of unsent percepts.
+
+With `monitor_port` the server also opens the league's monitor port
+(`server.monitor.MonitorServer`): monitors may connect from the start and get
+the scene after every `monitor_interval` cycles of the match.
 """
 
 from __future__ import annotations
@@ -35,6 +39,7 @@ from models.messages import Action, Percept
 from models.rules import CYCLE, HALF_TIME, PlayMode, Side
 from models.scene import Lineup
 from server.match import Match, MatchResult
+from server.monitor import MonitorServer
 from server.protocol import (
     MAX_AGENT_MESSAGE,
     AgentMessage,
@@ -214,6 +219,12 @@ class NetMatch(Match):
 
     sync = True
     timeout = 1.0
+    monitor: MonitorServer | None = None  # the monitor port, updated after every cycle
+
+    def step(self) -> None:
+        super().step()
+        if self.monitor is not None:
+            self.monitor.update(self)
 
     def _act(self, percepts: list[Percept]) -> list[Action]:
         agents: list[RemoteAgent | None] = []
@@ -248,7 +259,8 @@ class NetServer:
     def __init__(self, host: str = "127.0.0.1", port: int = 3100, sync: bool = True,
                  half_time: float = HALF_TIME, seed: int = 0, players: int = 22,
                  wait: float | None = None, timeout: float = 1.0, join_timeout: float | None = None,
-                 digits: int | None = 2, record: bool = False) -> None:
+                 digits: int | None = 2, record: bool = False, monitor_port: int | None = None,
+                 monitor_interval: int = 1) -> None:
         if not 1 <= players <= 22:
             raise ValueError(f"players must be 1 to 22, got {players}")
         self.sync, self.half_time, self.seed = sync, half_time, seed
@@ -257,6 +269,12 @@ class NetServer:
         self.listener = socket.create_server((host, port))
         self.listener.setblocking(False)
         self.address = self.listener.getsockname()[:2]
+        try:
+            self.monitor = (MonitorServer(host, monitor_port, monitor_interval)
+                            if monitor_port is not None else None)
+        except BaseException:
+            self.listener.close()
+            raise
         self.lobby: list[RemoteAgent] = []
         self.teams: list[str] = []  # left, right
         self.match: NetMatch | None = None
@@ -317,6 +335,8 @@ class NetServer:
                 if self.join_timeout is not None and now - start >= self.join_timeout:
                     raise TimeoutError(f"{len(joined)} of {self.players} agents joined in "
                                        f"{self.join_timeout:g} s")
+                if self.monitor is not None:
+                    self.monitor.poll()  # monitors may connect early; they get the scene at kickoff
                 for key, _ in sel.select(0.05):
                     if key.data is None:
                         try:
@@ -367,6 +387,7 @@ class NetServer:
                      half_time=self.half_time, seed=self.seed, record=self.record,
                      team_names=(names[0], names[1]))
         m.sync, m.timeout = self.sync, self.timeout
+        m.monitor = self.monitor
         for i, agent in enumerate(m.agents):
             if agent is None:
                 m._crash(i, "no agent connected")
@@ -388,4 +409,6 @@ class NetServer:
         finally:
             for a in self.lobby:
                 a.close("match over")
+            if self.monitor is not None:
+                self.monitor.close()
         return result

@@ -237,6 +237,7 @@ def test_cli_server_and_agents(tmp_path, capsys):
 @pytest.mark.parametrize("args, needle", [
     (["agent", "--team", "a b"], "team name"), (["agent", "--team", "A", "--unum", "12"], "unum"),
     (["server", "--players", "0"], "players"), (["server", "--port", "x"], "port"),
+    (["server", "--monitor-port", "70000"], "port"), (["server", "--monitor-interval", "0"], "interval"),
 ])
 def test_cli_bad_options(args, needle, capsys):
     from cli.main import main
