@@ -47,13 +47,13 @@ import numpy as np
 
 from models import field, nao
 from models.rules import FREE_KICK_DISTANCE, GOAL_PAUSE, PlayMode
-from server.protocol import FrameReader, ProtocolError, encode_frame, parse_sexp
+from server.connection import Connection
+from server.protocol import ProtocolError, encode_frame, parse_sexp
 
 log = logging.getLogger(__name__)
 
 MAX_MONITOR_MESSAGE = 1 << 12  # bytes of one command from a monitor (RoboViz's are < 100)
 MAX_MONITOR_OUTGOING = 1 << 21  # bytes of unsent frames before updates to a monitor are skipped
-MAX_MESSAGES_LOGGED = 20  # per monitor
 MAX_ACCEPTS = 8  # new monitors accepted per update
 
 # rcssserver3d's play mode list, in its order: the game state's play_mode is an index into it.
@@ -224,20 +224,13 @@ def game_state(match, full: bool) -> str:
             f"{now})")
 
 
-class MonitorClient:
+class MonitorClient(Connection):
     """One monitor connection."""
 
     def __init__(self, sock: socket.socket, addr) -> None:
-        self.sock = sock
-        self.addr = addr
-        sock.setblocking(False)
-        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        self.reader = FrameReader(MAX_MONITOR_MESSAGE)
-        self.out = bytearray()
+        super().__init__(sock, addr, MAX_MONITOR_MESSAGE)
         self.needs_full = True
-        self.closed: str | None = None
         self.commands: list[list] = []
-        self.errors = 0
         self.skipped = 0
 
     @property
@@ -246,12 +239,8 @@ class MonitorClient:
 
     def close(self, why: str) -> None:
         if self.closed is None:
-            self.closed = why
             log.info("%s closed: %s", self.name, why)
-            try:
-                self.sock.close()
-            except OSError:
-                pass
+        super().close(why)
 
     def send(self, frame: bytes) -> bool:
         """Queue a frame unless too much is unsent already (then it is skipped)."""
@@ -264,45 +253,12 @@ class MonitorClient:
         self.flush()
         return True
 
-    def flush(self) -> None:
-        if self.closed or not self.out:
-            return
-        try:
-            n = self.sock.send(self.out)
-            del self.out[:n]
-        except (BlockingIOError, InterruptedError):
-            pass
-        except OSError as exc:
-            self.close(f"send failed: {exc}")
-
     def receive(self) -> None:
-        if self.closed:
-            return
-        try:
-            data = self.sock.recv(65536)
-        except (BlockingIOError, InterruptedError):
-            return
-        except OSError as exc:
-            self.close(f"receive failed: {exc}")
-            return
-        if not data:
-            self.close("disconnected")
-            return
-        try:
-            frames = self.reader.feed(data)
-        except ProtocolError as exc:
-            self.close(str(exc))
-            return
-        for f in frames:
+        for f in self.read_frames():
             try:
                 self.commands.extend(parse_sexp(f, max_size=MAX_MONITOR_MESSAGE))
             except ProtocolError as exc:
                 self.error(f"malformed command: {exc}")
-
-    def error(self, text: str) -> None:
-        self.errors += 1
-        if self.errors <= MAX_MESSAGES_LOGGED:
-            log.warning("%s: %s", self.name, text)
 
 
 def _vec(items, key: str) -> tuple[float, float, float] | None:

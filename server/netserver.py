@@ -38,12 +38,12 @@ from models import nao
 from models.messages import Action, Percept
 from models.rules import CYCLE, HALF_TIME, PlayMode, Side
 from models.scene import Lineup
+from server.connection import Connection
 from server.match import Match, MatchResult
 from server.monitor import MonitorServer
 from server.protocol import (
     MAX_AGENT_MESSAGE,
     AgentMessage,
-    FrameReader,
     ProtocolError,
     encode_frame,
     format_percept,
@@ -54,19 +54,13 @@ from server.protocol import (
 log = logging.getLogger(__name__)
 
 MAX_OUTGOING = 1 << 18  # bytes of percepts queued for an agent that does not read them
-MAX_ERRORS_LOGGED = 20  # per agent; later ones are counted only
 
 
-class RemoteAgent:
+class RemoteAgent(Connection):
     """One agent connection: the `act(percept) -> Action` of a match's agent."""
 
     def __init__(self, sock: socket.socket, addr) -> None:
-        self.sock = sock
-        self.addr = addr
-        sock.setblocking(False)
-        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        self.reader = FrameReader(MAX_AGENT_MESSAGE)
-        self.out = bytearray()
+        super().__init__(sock, addr, MAX_AGENT_MESSAGE)
         self.robot_type: int | None = None
         self.unum = 0
         self.team: str | None = None
@@ -76,8 +70,6 @@ class RemoteAgent:
         self.pending: list[AgentMessage] = []
         self.synced = False
         self.first = True
-        self.closed: str | None = None  # why the connection is gone
-        self.errors = 0
         self.missed = 0
         self.digits: int | None = 2
         self.timeout = 1.0
@@ -87,14 +79,6 @@ class RemoteAgent:
         return f"{self.team or '?'}#{self.unum} ({self.addr[0]}:{self.addr[1]})"
 
     # --------------------------------------------------------------- socket i/o
-
-    def close(self, why: str) -> None:
-        if self.closed is None:
-            self.closed = why
-            try:
-                self.sock.close()
-            except OSError:
-                pass
 
     def send(self, text: str) -> None:
         """Queue one frame and write what the socket takes now."""
@@ -106,53 +90,18 @@ class RemoteAgent:
             return
         self.flush()
 
-    def flush(self) -> None:
-        if self.closed or not self.out:
-            return
-        try:
-            n = self.sock.send(self.out)
-            del self.out[:n]
-        except (BlockingIOError, InterruptedError):
-            pass
-        except OSError as exc:
-            self.close(f"send failed: {exc}")
-
     def receive(self) -> None:
         """Read what is there; complete frames become `pending` messages."""
-        if self.closed:
-            return
-        try:
-            data = self.sock.recv(65536)
-        except (BlockingIOError, InterruptedError):
-            return
-        except OSError as exc:
-            self.close(f"receive failed: {exc}")
-            return
-        if not data:
-            self.close("disconnected")
-            return
-        try:
-            frames = self.reader.feed(data)
-        except ProtocolError as exc:
-            self.close(str(exc))
-            return
-        for f in frames:
+        for f in self.read_frames():
             try:
                 msg = parse_agent_message(f)
             except ProtocolError as exc:
-                self._error(f"malformed message: {exc}")
+                self.error(f"malformed message: {exc}")
                 continue
             for e in msg.errors:
-                self._error(e)
+                self.error(e)
             self.pending.append(msg)
             self.synced = self.synced or msg.syn
-
-    def _error(self, text: str) -> None:
-        self.errors += 1
-        if self.errors <= MAX_ERRORS_LOGGED:
-            log.warning("%s: %s", self.name, text)
-        elif self.errors == MAX_ERRORS_LOGGED + 1:
-            log.warning("%s: more errors, no longer logged", self.name)
 
     # -------------------------------------------------------------- the match
 
