@@ -10,28 +10,20 @@ stay with the caller's numpy generator.
 from __future__ import annotations
 
 import math
-import warnings
 
-import numba
 import numpy as np
 from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
 
+from models.jit import njit
+
 TWO_PI = 2.0 * math.pi
 
 
-def _njit(fn):
-    """`numba.njit(cache=True)`, compiled in memory where no cache directory is writable."""
-    try:
-        return numba.njit(cache=True)(fn)
-    except RuntimeError as exc:  # "cannot cache function ...: no locator available"
-        warnings.warn(f"agent kernels compile in memory, not cached: {exc}", RuntimeWarning,
-                      stacklevel=2)
-        return numba.njit(fn)
 
 
-@_njit
+@njit
 def predict_particles(p: np.ndarray, z: np.ndarray, ex: float, ey: float, et: float,
                       nx: float, ny: float, nt: float) -> None:
     """Move particles p (n, 3: x, y, heading) in place by an odometry step (ex, ey, et)
@@ -64,7 +56,7 @@ def _fma32(typingctx, a, b, c):
     return sig, codegen
 
 
-@_njit
+@njit
 def line_scores(b: np.ndarray, q: np.ndarray, m: int, k: int, reach: np.ndarray, ratio2: np.ndarray,
                 out: np.ndarray) -> None:
     """Per particle, the sum over k observed lines of the best (lowest) score over m
@@ -117,7 +109,7 @@ def line_scores(b: np.ndarray, q: np.ndarray, m: int, k: int, reach: np.ndarray,
             out[i] += np.float64(best[i])
 
 
-@_njit
+@njit
 def _row_sum(a: np.ndarray, n: int) -> float:
     """Sum of a[:n] in numpy's order for a row of up to 128 (`np.sum(axis=-1)`): in turn
     below 8 terms, else its 8-way unrolled pairwise sum."""
@@ -145,7 +137,7 @@ def _row_sum(a: np.ndarray, n: int) -> float:
     return res
 
 
-@_njit
+@njit
 def landmark_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.ndarray,
                             lm: np.ndarray, obs: np.ndarray, r_obs: np.ndarray, w_dist: np.ndarray,
                             k_bearing: float, out: np.ndarray) -> None:
@@ -171,7 +163,7 @@ def landmark_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np
         out[i] = 0.0 - 0.5 * _row_sum(dr, k)
 
 
-@_njit
+@njit
 def resample_into(particles: np.ndarray, weights: np.ndarray, u0: float, noise: np.ndarray,
                   walk_xy: float, walk_theta: float, out: np.ndarray) -> None:
     """Systematic resampling of len(noise) particles into out[:len(noise)]: positions
@@ -190,7 +182,7 @@ def resample_into(particles: np.ndarray, weights: np.ndarray, u0: float, noise: 
         out[i, 2] = particles[r, 2] + noise[i, 2] * walk_theta
 
 
-@_njit
+@njit
 def seed_poses(lm: np.ndarray, obs: np.ndarray, i: np.ndarray, j: np.ndarray, z: np.ndarray,
                sigma_theta: float, out: np.ndarray) -> None:
     """Sensor resetting (`ParticleFilter._seed_from_landmarks`): row r of out (k, 3) gets
@@ -212,7 +204,7 @@ def seed_poses(lm: np.ndarray, obs: np.ndarray, i: np.ndarray, j: np.ndarray, z:
         out[r, 2] = theta
 
 
-@_njit
+@njit
 def line_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.ndarray, seg: np.ndarray,
                         length: np.ndarray, w_all: np.ndarray, known_len: np.ndarray, inv_distance: float,
                         sigma_ratio: float, out: np.ndarray) -> None:

@@ -15,23 +15,13 @@ each camera see, and where".
 from __future__ import annotations
 
 import math
-import warnings
 
-import numba
 import numpy as np
 
-
-def _njit(fn):
-    """`numba.njit(cache=True)`, compiled in memory where no cache directory is writable."""
-    try:
-        return numba.njit(cache=True)(fn)
-    except RuntimeError as exc:  # "cannot cache function ...: no locator available"
-        warnings.warn(f"server kernels compile in memory, not cached: {exc}", RuntimeWarning,
-                      stacklevel=2)
-        return numba.njit(fn)
+from models.jit import njit
 
 
-@_njit
+@njit
 def _polar(x: float, y: float, z: float, out: np.ndarray, k: int) -> None:
     h2 = x * x + y * y
     out[k, 0] = math.sqrt(h2 + z * z)
@@ -39,7 +29,7 @@ def _polar(x: float, y: float, z: float, out: np.ndarray, k: int) -> None:
     out[k, 2] = math.atan2(z, math.sqrt(h2))
 
 
-@_njit
+@njit
 def _noisy(pol: np.ndarray, k: int, noise: np.ndarray, j: int, sigma: np.ndarray) -> None:
     """Row k of `pol` (distance, horizontal, vertical) with noise: the distance times
     (1 + sigma[0] n0), the angles plus sigma[1] n1 and sigma[2] n2, n = noise[j:j + 3]."""
@@ -48,7 +38,7 @@ def _noisy(pol: np.ndarray, k: int, noise: np.ndarray, j: int, sigma: np.ndarray
     pol[k, 2] += sigma[2] * noise[j + 2]
 
 
-@_njit
+@njit
 def camera_views(points: np.ndarray, nobj: int, not_own: np.ndarray, cam: np.ndarray,
                  rot: np.ndarray, calib: np.ndarray, tan_half: float, noise: np.ndarray,
                  start: int, sigma: np.ndarray, cam_left: np.ndarray, obj_left: np.ndarray):
@@ -138,7 +128,7 @@ def camera_views(points: np.ndarray, nobj: int, not_own: np.ndarray, cam: np.nda
     return obj_col[:n], obj_pol[:n], obj_ours[:n], obj_end, line_pol[:nl], line_end, u - start
 
 
-@_njit
+@njit
 def ball_touchers(geom: np.ndarray, ball: int, owner: np.ndarray, out: np.ndarray) -> int:
     """Owners (player indices, `owner[geom]` >= 0) of the geoms in contact with geom
     `ball` (geom: MjData's contact geom pairs, (ncon, 2)), one per contact, written to
@@ -157,7 +147,7 @@ def ball_touchers(geom: np.ndarray, ball: int, owner: np.ndarray, out: np.ndarra
     return n
 
 
-@_njit
+@njit
 def fallen_rules(xpos: np.ndarray, xmat: np.ndarray, torso: np.ndarray, standing_z: np.ndarray,
                  fallen: np.ndarray, down_since: np.ndarray, unsteady_since: np.ndarray,
                  down_limit: np.ndarray, unsteady_limit: np.ndarray, now: float,
@@ -195,7 +185,7 @@ def fallen_rules(xpos: np.ndarray, xmat: np.ndarray, torso: np.ndarray, standing
     return nf, nl
 
 
-@_njit
+@njit
 def penalty_area_rules(xpos: np.ndarray, torso: np.ndarray, own_sign: np.ndarray,
                        area: tuple[float, float, float], area_since: np.ndarray, now: float,
                        inside: np.ndarray) -> int:
@@ -219,7 +209,7 @@ def penalty_area_rules(xpos: np.ndarray, torso: np.ndarray, own_sign: np.ndarray
     return n
 
 
-@_njit
+@njit
 def _ray_hits_box(pos: np.ndarray, mat: np.ndarray, size: np.ndarray, origin: np.ndarray,
                   direction: np.ndarray) -> bool:
     """Whether the ray origin + t direction (t >= 0, world frame) meets the box of
@@ -242,7 +232,7 @@ def _ray_hits_box(pos: np.ndarray, mat: np.ndarray, size: np.ndarray, origin: np
     return True
 
 
-@_njit
+@njit
 def body_sensors(xmat: np.ndarray, cvel: np.ndarray, acc: np.ndarray, torso: np.ndarray,
                  gravity: np.ndarray, geom_body: np.ndarray,
                  con_geom: np.ndarray, con_pos: np.ndarray, con_frame: np.ndarray,

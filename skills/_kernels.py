@@ -10,26 +10,16 @@ libm's), so results are bit for bit theirs; what goes is the interpreter.
 from __future__ import annotations
 
 import math
-import warnings
 
-import numba
 import numpy as np
 from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
 
-
-def _njit(fn):
-    """`numba.njit(cache=True)`, compiled in memory where no cache directory is writable."""
-    try:
-        return numba.njit(cache=True)(fn)
-    except RuntimeError as exc:  # "cannot cache function ...: no locator available"
-        warnings.warn(f"skills kernels compile in memory, not cached: {exc}", RuntimeWarning,
-                      stacklevel=2)
-        return numba.njit(fn)
+from models.jit import njit
 
 
-@_njit
+@njit
 def joint_command(target: np.ndarray, q: np.ndarray, prev_target: np.ndarray, has_prev_target: bool,
                   prev_err: np.ndarray, has_prev_err: bool, kp: np.ndarray, kd: np.ndarray, dt: float,
                   max_speed: np.ndarray, feedforward: float, cycle: float, new_target: np.ndarray,
@@ -83,7 +73,7 @@ def _fma64(typingctx, a, b, c):
     return sig, codegen
 
 
-@_njit
+@njit
 def _norm2(ax: float, ay: float, mx: float) -> float:
     e = math.frexp(mx)[1]
     scale = math.ldexp(1.0, -e)  # lossless scaling
@@ -114,7 +104,7 @@ def _norm2(ax: float, ay: float, mx: float) -> float:
     return h / scale
 
 
-@_njit
+@njit
 def py_hypot(x: float, y: float) -> float:
     """CPython's math.hypot(x, y) (its vector_norm, not libm's hypot), bit for bit."""
     ax, ay = abs(x), abs(y)
@@ -131,30 +121,30 @@ def py_hypot(x: float, y: float) -> float:
     return _norm2(ax, ay, mx)
 
 
-@_njit
+@njit
 def _max2(a: float, b: float) -> float:
     """Python's max(a, b)."""
     return b if b > a else a
 
 
-@_njit
+@njit
 def _min2(a: float, b: float) -> float:
     """Python's min(a, b)."""
     return b if b < a else a
 
 
-@_njit
+@njit
 def _excess(a: float, lo: float, up: float) -> float:
     """Python's max(lo - a, a - up, 0.0)."""
     return _max2(_max2(lo - a, a - up), 0.0)
 
 
-@_njit
+@njit
 def _wrap(a: float) -> float:
     return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
-@_njit
+@njit
 def solve_leg(k: np.ndarray, r: float, p: float, y: float, px: float, py: float, pz: float, sole: bool,
               out: np.ndarray) -> bool:
     """`skills.ik.solve_leg` compiled, line for line (Python's min/max/% and CPython's
