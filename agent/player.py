@@ -261,7 +261,7 @@ class Player:
         if dive is not None and view.mode == PM.PLAY_ON:
             return Dive(dive)
         x, y, h = st.goalie_position(view.ball)
-        return WalkTo(x, y, heading=h, avoid=False)
+        return WalkTo(x, y, heading=h)
 
     def _position(self, view: st.TeamView, target: np.ndarray) -> SkillRequest:
         """Walk to a role position: run to a teammate's announced kick target when this

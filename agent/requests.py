@@ -12,12 +12,12 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class WalkTo:
-    """Walk to (x, y); end facing `heading` (None: face the way there), D.1.2-D.1.3."""
+    """Walk to (x, y); end facing `heading` (None: face the way there). The decision
+    layer has already bent (x, y) round other players (D.1.2)."""
 
     x: float
     y: float
     heading: float | None = None
-    avoid: bool = True  # walk round other players on the way
     set_name: str = "go_to_target"
 
 
