@@ -215,7 +215,7 @@ def detour(start: Sequence[float], goal: Sequence[float], disks: np.ndarray) -> 
 
 
 def assign_roles(view: TeamView, targets: np.ndarray, method: str = "mmd-msd2",
-                 on_ball: int | None = None, all_known: bool = False,
+                 on_ball: int | None = None,
                  nearest_stopper: bool = False, obstacles: np.ndarray | None = None) -> tuple[int, ...]:
     """This player's vote: the role index (into FIELD_ROLES) of each of shirt numbers 2..11.
 

@@ -19,6 +19,15 @@ from server.protocol import encode_frame, parse_sexp
 LINEUP = Lineup((0, 4), (1,))
 
 
+
+def poll_until(mon, m, mode: PlayMode, tries: int = 50) -> None:
+    """Let the monitor server read commands until the referee is in `mode` (or give up)."""
+    for _ in range(tries):
+        mon.poll(m)
+        if m.referee.mode == mode:
+            return
+        threading.Event().wait(0.01)
+
 def parse_monitor(frame: bytes):
     gs, header, graph = parse_sexp(frame, max_depth=16, max_size=1 << 22)
     return {k[0]: k[1:] for k in gs}, header, graph
@@ -158,19 +167,11 @@ def test_monitor_commands():
         mon.update(m)
         recv_frame(c)
         c.sendall(encode_frame("(ball (pos 1 2 0.5) (vel 0 0 0))") + encode_frame("(playMode PlayOn)"))
-        for _ in range(50):
-            mon.poll(m)
-            if m.referee.mode == PlayMode.PLAY_ON:
-                break
-            threading.Event().wait(0.01)
+        poll_until(mon, m, PlayMode.PLAY_ON)
         assert m.referee.mode == PlayMode.PLAY_ON
         np.testing.assert_allclose(m.world.ball_position(), [1, 2, 0.5])
         c.sendall(encode_frame("(kickOff Right)") + encode_frame("(reqfullstate)"))
-        for _ in range(50):
-            mon.poll(m)
-            if m.referee.mode == PlayMode.KICK_OFF_RIGHT:
-                break
-            threading.Event().wait(0.01)
+        poll_until(mon, m, PlayMode.KICK_OFF_RIGHT)
         assert m.referee.mode == PlayMode.KICK_OFF_RIGHT
         m.step()
         mon.update(m)
