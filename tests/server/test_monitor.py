@@ -19,7 +19,6 @@ from server.protocol import encode_frame, parse_sexp
 LINEUP = Lineup((0, 4), (1,))
 
 
-
 def poll_until(mon, m, mode: PlayMode, tries: int = 50) -> None:
     """Let the monitor server read commands until the referee is in `mode` (or give up)."""
     for _ in range(tries):
