@@ -282,9 +282,8 @@ class Player:
         target = np.array(self._clip(target))
         goal = target
         if self.config.collision_avoidance:
-            obstacles = [np.array([m.x, m.y]) for m in view.mates]
-            obstacles += list(view.opponents)
-            goal = st.avoid(view.pose, target, np.array(obstacles).reshape(-1, 2))
+            mates = np.array([(m.x, m.y) for m in view.mates]).reshape(-1, 2)
+            goal = st.avoid(view.pose, target, np.concatenate((mates, view.opponents)))
         return WalkTo(float(goal[0]), float(goal[1]), heading=st.facing(view.pose, target, ball))
 
     def _anticipate(self, view: st.TeamView, target: np.ndarray, kick_target: np.ndarray) -> np.ndarray:
@@ -309,8 +308,8 @@ class Player:
 
     @staticmethod
     def _clip(p: np.ndarray) -> tuple[float, float]:
-        return (float(np.clip(p[0], -fld.HALF_LENGTH + 0.2, fld.HALF_LENGTH - 0.2)),
-                float(np.clip(p[1], -fld.HALF_WIDTH + 0.2, fld.HALF_WIDTH - 0.2)))
+        return (min(max(float(p[0]), -fld.HALF_LENGTH + 0.2), fld.HALF_LENGTH - 0.2),
+                min(max(float(p[1]), -fld.HALF_WIDTH + 0.2), fld.HALF_WIDTH - 0.2))
 
     @staticmethod
     def _face(p: np.ndarray, ball: np.ndarray) -> float:

@@ -127,7 +127,7 @@ def on_ball_player(view: TeamView, exclude: int | None = None) -> int | None:
 def role_positions(formation: Formation, ball: np.ndarray, shift: float = 0.0) -> np.ndarray:
     """(10, 2) positions of FIELD_ROLES for a ball position (the formation's lookup)."""
     pos = formation.positions_at(np.asarray(ball, dtype=float))
-    out = np.array([pos[formation.index(r)] for r in FIELD_ROLES])
+    out = pos[formation.indices(FIELD_ROLES)]
     if shift:
         out[1:, 0] = np.clip(out[1:, 0] + shift, -fld.HALF_LENGTH + 0.5, fld.HALF_LENGTH - 0.5)
     return out
@@ -137,13 +137,23 @@ def walking_cost(m: Mate, target: np.ndarray, obstacles: np.ndarray | None = Non
     """Cost (m) of walking to a target: distance, a turn toward it, and a fall (SCRAM's
     path cost with the robot's state); with `obstacles` (k, 3) disks (x, y, radius),
     the walk goes round them (PtW section 6's PathCost: `detour`)."""
-    dx, dy = target[0] - m.x, target[1] - m.y
+    disks = None if obstacles is None or not len(obstacles) else _disks(obstacles)
+    return _walking_cost(m, float(target[0]), float(target[1]), disks)
+
+
+def _walking_cost(m: Mate, tx: float, ty: float, disks: list[list[float]] | None) -> float:
+    dx, dy = tx - m.x, ty - m.y
     dist = math.hypot(dx, dy)
     turn = abs(wrap(math.atan2(dy, dx) - m.heading)) / math.pi if dist > FACE_BALL_WITHIN else 0.0
     cost = dist + TURN_COST * turn + (FALLEN_PENALTY if m.fallen else 0.0)
-    if obstacles is not None and len(obstacles):
-        cost += detour((m.x, m.y), target, obstacles)
+    if disks:
+        cost += _detour(m.x, m.y, tx, ty, disks)
     return cost
+
+
+def _disks(obstacles: np.ndarray) -> list[list[float]]:
+    """(k, 3) disks as lists of Python floats (the per-pair loops run faster on them)."""
+    return np.asarray(obstacles, dtype=float).reshape(-1, 3).tolist()
 
 
 def walking_costs(players: Sequence[Mate], targets: np.ndarray) -> np.ndarray:
@@ -194,19 +204,26 @@ def detour(start: Sequence[float], goal: Sequence[float], disks: np.ndarray) -> 
     straight line: for each disk the segment cuts, the shortest path round that one
     disk (two tangents and an arc) less the chord; the disks add up (exact for one
     disk, an estimate for several). A start or goal inside a disk ignores it."""
-    px, py = float(start[0]), float(start[1])
-    tx, ty = float(goal[0]), float(goal[1])
+    return _detour(float(start[0]), float(start[1]), float(goal[0]), float(goal[1]), _disks(disks))
+
+
+def _detour(px: float, py: float, tx: float, ty: float, disks: list[list[float]]) -> float:
     sx, sy = tx - px, ty - py
     seg2 = sx * sx + sy * sy
+    if seg2 < 1e-12:
+        return 0.0
     straight = math.sqrt(seg2)
     extra = 0.0
-    for cx, cy, r in np.asarray(disks, dtype=float).reshape(-1, 3):
+    for cx, cy, r in disks:
+        s = min(max(((cx - px) * sx + (cy - py) * sy) / seg2, 0.0), 1.0)
+        ex, ey = px + s * sx - cx, py + s * sy - cy
+        if ex * ex + ey * ey > 1.000001 * r * r:
+            continue  # the straight walk clears it by far (the exact tests below agree)
         dp = math.hypot(px - cx, py - cy)
         dt = math.hypot(tx - cx, ty - cy)
-        if dp <= r or dt <= r or seg2 < 1e-12:
+        if dp <= r or dt <= r:
             continue
-        s = min(max(((cx - px) * sx + (cy - py) * sy) / seg2, 0.0), 1.0)
-        if math.hypot(px + s * sx - cx, py + s * sy - cy) >= r:
+        if math.hypot(ex, ey) >= r:
             continue  # the straight walk clears it
         angle = abs(wrap(math.atan2(py - cy, px - cx) - math.atan2(ty - cy, tx - cx)))
         arc = max(angle - math.acos(r / dp) - math.acos(r / dt), 0.0)
@@ -237,8 +254,10 @@ def assign_roles(view: TeamView, targets: np.ndarray, method: str = "mmd-msd2",
         free_roles.remove(0)
         known = [m for m in known if m.unum != on_ball]
     stopper = FIELD_ROLES.index("supporter")
+    disks = None if obstacles is None or not len(obstacles) else _disks(obstacles)
     if nearest_stopper and known and stopper in free_roles:
-        costs = [walking_cost(m, targets[stopper], obstacles) for m in known]
+        tx, ty = targets[stopper].tolist()
+        costs = [_walking_cost(m, tx, ty, disks) for m in known]
         nearest = known[int(np.argmin(costs))]  # ties: the lower shirt number
         roles[nearest.unum - 2] = stopper
         free_roles.remove(stopper)
@@ -249,7 +268,8 @@ def assign_roles(view: TeamView, targets: np.ndarray, method: str = "mmd-msd2",
         if obstacles is None or not len(obstacles):
             cost = walking_costs(known[:k], targets[use])
         else:
-            cost = np.array([[walking_cost(m, targets[r], obstacles) for r in use] for m in known[:k]])
+            spots = targets[use].tolist()
+            cost = np.array([[_walking_cost(m, tx, ty, disks) for tx, ty in spots] for m in known[:k]])
         pick = assign_costs(cost, method)
         for m, j in zip(known[:k], pick):
             roles[m.unum - 2] = use[int(j)]

@@ -36,6 +36,7 @@ from scipy.spatial import Delaunay, QhullError
 from formations import field as fld
 
 DEFAULT_FORMATION = "default.formation"
+_FLIP = np.array([1.0, -1.0])  # y -> -y
 
 
 class FormationFileError(ValueError):
@@ -76,6 +77,11 @@ class Formation:
             except QhullError:  # all samples collinear: nearest sample only
                 self._tri = None
         self._follow = np.array([r in self.follow for r in self.roles], dtype=bool)
+        self._any_follow = bool(self._follow.any())
+        self._ball_list = [tuple(b) for b in self.balls.tolist()]
+        self._mirror_index = None if self.mirror is None else np.array(self.mirror, dtype=np.int64)
+        self._lo, self._hi = fld.field_box(self.margin)
+        self._indices: dict[tuple[str, ...], np.ndarray] = {}
 
     @property
     def triangulation(self) -> Delaunay | None:
@@ -83,6 +89,13 @@ class Formation:
 
     def index(self, role: str) -> int:
         return self.roles.index(role)
+
+    def indices(self, roles: tuple[str, ...]) -> np.ndarray:
+        """Role indices (k,) of `roles`, remembered per tuple of names."""
+        idx = self._indices.get(roles)
+        if idx is None:
+            idx = self._indices[roles] = np.array([self.roles.index(r) for r in roles], dtype=np.int64)
+        return idx
 
     def weights(self, ball: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Sample indices and barycentric weights used for `ball` (2,), meters."""
@@ -104,9 +117,11 @@ class Formation:
         the ball at -y, so its output is exactly left-right symmetric.
         """
         ball = np.asarray(ball, dtype=float).reshape(2)
-        if self.mirror is not None and ball[1] < 0:
-            flip = np.array([1.0, -1.0])
-            return self.positions_at(ball * flip)[list(self.mirror)] * flip
+        if self._mirror_index is not None and ball[1] < 0:
+            return self._positions_at(ball * _FLIP)[self._mirror_index] * _FLIP
+        return self._positions_at(ball)
+
+    def _positions_at(self, ball: np.ndarray) -> np.ndarray:
         idx, w = self.weights(ball)
         if idx.size == 1:
             pos = self.positions[idx[0]].copy()
@@ -114,11 +129,14 @@ class Formation:
             w = w / w.sum()
             pos = np.einsum("k,krd->rd", w, self.positions[idx])
             # Exact at the samples themselves (no rounding from the weights).
-            hit = np.flatnonzero(np.all(self.balls[idx] == ball, axis=1))
-            if hit.size:
-                pos = self.positions[idx[hit[0]]].copy()
-        pos[self._follow] = ball
-        return fld.clip_to_field(pos, self.margin)
+            bx, by = ball.tolist()
+            for j in idx.tolist():
+                if self._ball_list[j] == (bx, by):
+                    pos = self.positions[j].copy()
+                    break
+        if self._any_follow:
+            pos[self._follow] = ball
+        return np.clip(pos, self._lo, self._hi)
 
     def position(self, role: str, ball: np.ndarray) -> np.ndarray:
         return self.positions_at(ball)[self.index(role)]

@@ -19,12 +19,15 @@ OWN_GOAL = np.array([-HALF_LENGTH, 0.0])  # center of our goal line, m
 OPPONENT_GOAL = np.array([HALF_LENGTH, 0.0])
 
 
+def field_box(margin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper (x, y) corners (m) of the field rectangle shrunk by `margin`."""
+    return (np.array([-HALF_LENGTH + margin, -HALF_WIDTH + margin]),
+            np.array([HALF_LENGTH - margin, HALF_WIDTH - margin]))
+
+
 def clip_to_field(points: np.ndarray, margin: float = 0.0) -> np.ndarray:
     """Clips (..., 2) points to the field rectangle shrunk by `margin` meters."""
-    points = np.asarray(points, dtype=float)
-    lo = np.array([-HALF_LENGTH + margin, -HALF_WIDTH + margin])
-    hi = np.array([HALF_LENGTH - margin, HALF_WIDTH - margin])
-    return np.clip(points, lo, hi)
+    return np.clip(np.asarray(points, dtype=float), *field_box(margin))
 
 
 def inside_field(points: np.ndarray, margin: float = 0.0) -> np.ndarray:

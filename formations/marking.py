@@ -56,10 +56,11 @@ def opponents_to_mark(
     k = len(opponents)
     if k == 0:
         return np.zeros(0, dtype=bool)
-    slack = np.zeros(k) if marked is None else np.where(np.asarray(marked, bool), p.hysteresis, 0)
-    to_goal = np.linalg.norm(opponents - fld.OWN_GOAL, axis=1)
-    to_ball = np.linalg.norm(opponents - ball, axis=1)
-    not_closest = np.arange(k) != int(np.argmin(to_ball))
+    slack = 0.0 if marked is None else np.where(np.asarray(marked, bool), p.hysteresis, 0)
+    to_goal = _norms(opponents - fld.OWN_GOAL)
+    to_ball = _norms(opponents - ball)
+    not_closest = np.ones(k, dtype=bool)
+    not_closest[int(np.argmin(to_ball))] = False
     return (
         (to_goal <= p.shot_range + slack)
         & not_closest
@@ -68,11 +69,17 @@ def opponents_to_mark(
     )
 
 
+def _norms(d: np.ndarray) -> np.ndarray:
+    """Lengths of (k, 2) vectors (as np.linalg.norm(d, axis=1) computes them)."""
+    x, y = d[:, 0], d[:, 1]
+    return np.sqrt(x * x + y * y)
+
+
 def marking_positions(opponents: np.ndarray, distance: float = 1.5) -> np.ndarray:
     """(k, 2) points `distance` meters from each opponent toward our goal center."""
     opponents = np.asarray(opponents, dtype=float).reshape(-1, 2)
     d = fld.OWN_GOAL - opponents
-    norm = np.linalg.norm(d, axis=1, keepdims=True)
+    norm = _norms(d)[:, None]
     step = np.where(norm > distance, distance / np.maximum(norm, 1e-12), 1.0)
     return fld.clip_to_field(opponents + d * step)
 
