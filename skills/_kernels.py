@@ -218,3 +218,236 @@ def solve_leg(k: np.ndarray, r: float, p: float, y: float, px: float, py: float,
             reachable = False
         out[i] = qc
     return reachable
+
+
+# ------------------------------------------------------------------------ the walk
+
+# The walk parameters the walk kernels read, in the order of their params vector
+# (`skills.walk.WalkEngine` builds it from a `WalkParams`), and their indices.
+WALK_PARAMS = (
+    "max_step_size_x", "max_step_size_y", "max_step_size_angle", "backward_factor",
+    "pid_step_size_x", "pid_step_size_y", "pid_step_size_rot", "max_normal_com_error",
+    "max_acceptable_com_error", "phase_length", "heading_gain", "walk_height", "fraction_still",
+    "fraction_on_ground", "fraction_moving", "fraction_in_air", "gyro_roll", "gyro_pitch",
+    "gyro_pitch_walk", "swing_steepness", "default_com_pos_x", "fwd_offset", "fwd_offset_factor",
+    "shift_amount", "step_height", "pid_roll", "pid_tilt", "swing_ankle_offset", "arm_pitch",
+    "pid_arm_x", "arm_roll", "toe_amplitude", "toe_phase_offset", "toe_const_offset",
+    "ankle_amplitude", "ankle_phase_offset", "ankle_const_offset",
+)
+(P_MAX_X, P_MAX_Y, P_MAX_A, P_BACKWARD, P_PID_X, P_PID_Y, P_PID_ROT, P_COM_NORMAL, P_COM_ACCEPT,
+ P_PHASE_LENGTH, P_HEADING_GAIN, P_WALK_HEIGHT, P_F_STILL, P_F_GROUND, P_F_MOVING, P_F_AIR,
+ P_GYRO_ROLL, P_GYRO_PITCH, P_GYRO_PITCH_WALK, P_STEEPNESS, P_COM_X, P_FWD_OFFSET, P_FWD_FACTOR,
+ P_SHIFT, P_STEP_HEIGHT, P_PID_ROLL, P_PID_TILT, P_SWING_ANKLE, P_ARM_PITCH, P_PID_ARM_X,
+ P_ARM_ROLL, P_TOE_AMP, P_TOE_PHASE, P_TOE_CONST, P_ANKLE_AMP, P_ANKLE_PHASE,
+ P_ANKLE_CONST) = range(len(WALK_PARAMS))
+
+# The walk engine's state vector: phase (start, end, now), the swinging foot (0 left,
+# 1 right), step sizes x, y (m) and theta (rad), walking (0/1), s since zero velocity was
+# asked, low-passed tilt and roll (rad), the CoM step factor, the gyro (rad/s, torso
+# frame), heading error (rad), turn per phase (rad), latched side step (m) and turn (rad).
+(S_PHI_START, S_PHI_END, S_PHI, S_SWING, S_STEP_X, S_STEP_Y, S_STEP_TH, S_WALKING, S_STOP_TIME,
+ S_TILT, S_ROLL, S_STEP_FACTOR, S_GYRO_X, S_GYRO_Y, S_GYRO_Z, S_HEADING_ERROR, S_TURN_STEP,
+ S_LATCHED_Y, S_LATCHED_TH, WALK_STATE) = range(20)
+
+# Joint indices of the walk's targets (`WalkEngine._idx`): left then right leg lj1..lj6,
+# arm joints laj1, raj1, laj2, raj2, laj3, raj3, laj4, raj4, then whether the robot has
+# toes, and left toe, left ankle pitch, right toe, right ankle pitch.
+I_LEGS, I_ARMS, I_HAS_TOE, I_TOES = 0, 12, 20, 21
+
+_G = 9.80665  # m/s^2, as `skills.walk.G`
+_FOOT_SEPARATION = 0.10  # `skills.walk.FOOT_SEPARATION`
+_STOP_JOG_TIME = 0.5  # `skills.walk.STOP_JOG_TIME`
+_STAND_DAMP_TIME = 1.0  # `skills.walk.STAND_DAMP_TIME`
+_STAND_DAMP_FADE = 0.5  # `skills.walk.STAND_DAMP_FADE`
+_BALANCE_SMOOTHING = 0.3  # `skills.walk.BALANCE_SMOOTHING`
+
+
+@njit
+def _clip(v: float, lo: float, hi: float) -> float:
+    """`skills.walk._clip`: lo if v < lo else hi if v > hi else v (NaN stays NaN)."""
+    return lo if v < lo else hi if v > hi else v
+
+
+@njit
+def _sigmoid(v: float) -> float:
+    return 1.0 / (1.0 + math.exp(-v))
+
+
+@njit
+def walk_feet(s: np.ndarray, p: np.ndarray, hips: np.ndarray, standing: bool, feet: np.ndarray) -> None:
+    """`skills.walk.WalkEngine.foot_targets` for state s and params p: feet[side] = ankle
+    position (m) then foot roll, pitch, yaw (rad), torso frame; side 0 left, 1 right.
+    hips: (2, >=3), each side's hip center first."""
+    phi_start, phi_end = s[S_PHI_START], s[S_PHI_END]
+    t = 0.0 if standing else (s[S_PHI] - phi_start) / (phi_end - phi_start)
+    t = _min2(_max2(t, 0.0), 1.0)
+    k = math.sqrt(_G / p[P_WALK_HEIGHT])
+    fs, fg = _min2(p[P_F_STILL], 0.9), _min2(p[P_F_GROUND], 0.9)
+    fm, fa = _min2(p[P_F_MOVING], 1.0 - fs), _min2(p[P_F_AIR], 1.0 - fg)
+    if standing:
+        sx, sy, sth = 0.0, 0.0, 0.0
+    else:
+        sx, sy, sth = s[S_STEP_X], s[S_LATCHED_Y], s[S_LATCHED_TH]
+    swing = int(s[S_SWING])
+    stance = 1 - swing
+    fade = 1.0
+    if standing:
+        fade = _min2(_max2((_STAND_DAMP_TIME + _STAND_DAMP_FADE - s[S_STOP_TIME]) / _STAND_DAMP_FADE, 0.0),
+                     1.0)
+    gyro_roll, gyro_pitch = fade * p[P_GYRO_ROLL], fade * p[P_GYRO_PITCH]
+    gyro_pitch += p[P_GYRO_PITCH_WALK] * _min2(1.0, abs(sx) / _max2(p[P_MAX_X], 1e-9))
+    zfrac = 0.5 * (1 - math.cos(2 * math.pi * (t - fg) / fa)) if fg <= t <= fg + fa else 0.0
+    if t < fs:
+        xfrac = -0.5 - t
+    elif t < fs + fm:
+        c = p[P_STEEPNESS]
+        sg = _sigmoid(c * (-0.5 + (t - fs) / fm))
+        s0, s1 = _sigmoid(-0.5 * c), _sigmoid(0.5 * c)
+        sg = (sg - s0) / (s1 - s0)
+        xfrac = (-0.5 - fs) + sg * ((1.5 - fs - fm) - (-0.5 - fs))
+    else:
+        xfrac = 1.5 - t
+    x_stance, x_swing = sx * (0.5 - t), sx * xfrac
+    dx = p[P_COM_X] + p[P_FWD_OFFSET] - sx * p[P_FWD_FACTOR]
+    phi = phi_start if standing else s[S_PHI]
+    shift = 0.0 if standing else p[P_SHIFT] * (-1.5 + 0.5 * math.cosh(0.5 * k * phi))
+    y_stance = 0.5 * _FOOT_SEPARATION + shift
+    y_swing = _FOOT_SEPARATION - y_stance
+    if t < fs:
+        yfrac = 0.0
+    elif t < fs + fm:
+        yfrac = 0.5 * (1 - math.cos(math.pi * (t - fs) / fm))
+    else:
+        yfrac = 1.0
+    lead = 0 if sy > 0 else 1
+    a = abs(sy)
+    swing_out = a * yfrac if swing == lead else a * (1.0 - yfrac)
+    stance_out = a * (1.0 - t) if stance == lead else a * t
+    groin = 0.0
+    if t >= fs + fm:
+        groin = abs(sth)
+    elif t >= fs:
+        groin = 0.5 * abs(sth) * (1 - math.cos(math.pi * (t - fs) / fm))
+    tlead = 1 if sth > 0 else 0
+    swing_yaw = groin if swing == tlead else abs(sth) - groin
+    stance_yaw = abs(sth) * (1.0 - t) if stance == tlead else abs(sth) * t
+    z_swing = p[P_STEP_HEIGHT] * zfrac
+    for j in range(2):
+        if j == 0:
+            side, xo, yo, out_y, yaw, z = swing, x_swing, y_swing, swing_out, swing_yaw, z_swing
+        else:
+            side, xo, yo, out_y, yaw, z = stance, x_stance, y_stance, stance_out, stance_yaw, 0.0
+        sign = 1.0 if side == 0 else -1.0
+        f = feet[side]
+        f[0] = hips[side, 0] + xo + dx
+        f[1] = sign * (yo + out_y)
+        f[2] = hips[side, 2] - p[P_WALK_HEIGHT] + z
+        f[3] = p[P_PID_ROLL] * s[S_ROLL] + gyro_roll * s[S_GYRO_X]
+        f[4] = p[P_PID_TILT] * s[S_TILT] + gyro_pitch * s[S_GYRO_Y]
+        f[5] = -sign * yaw
+        if j == 0 and not standing:  # toes up stepping forward, down stepping back
+            f[4] += p[P_SWING_ANKLE] * zfrac * (1.0 if sx >= 0 else -1.0)
+
+
+@njit
+def walk_targets(s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray, standing: bool,
+                 feet: np.ndarray, q: np.ndarray, full: np.ndarray) -> None:
+    """`skills.walk.WalkEngine._targets`: the joint targets q (rad, league order; NaN
+    where the walk leaves a joint alone) and full, q with 0 for NaN (for the expected
+    CoM). legs: each side's `LegGeometry.kconsts`; feet: scratch (2, 6)."""
+    walk_feet(s, p, legs, standing, feet)
+    q[:] = np.nan
+    q6 = np.empty(6)
+    swing = int(s[S_SWING])
+    for side in (swing, 1 - swing):
+        f = feet[side]
+        solve_leg(legs[side], f[3], f[4], f[5], f[0], f[1], f[2], False, q6)
+        for i in range(6):
+            q[idx[I_LEGS + 6 * side + i]] = q6[i]
+    swing_x = feet[0, 0] - feet[1, 0]
+    q[idx[I_ARMS]] = p[P_ARM_PITCH] - p[P_PID_ARM_X] * swing_x
+    q[idx[I_ARMS + 1]] = p[P_ARM_PITCH] + p[P_PID_ARM_X] * swing_x
+    q[idx[I_ARMS + 2]] = p[P_ARM_ROLL]
+    q[idx[I_ARMS + 3]] = -p[P_ARM_ROLL]
+    for i in range(4, 8):
+        q[idx[I_ARMS + i]] = 0.0
+    if idx[I_HAS_TOE]:
+        t = 0.0 if standing else (s[S_PHI] - s[S_PHI_START]) / (s[S_PHI_END] - s[S_PHI_START])
+        toe = p[P_TOE_AMP] * math.cos(t * math.pi + p[P_TOE_PHASE]) + p[P_TOE_CONST]
+        ank = p[P_ANKLE_AMP] * math.cos(t * math.pi + p[P_ANKLE_PHASE]) + p[P_ANKLE_CONST]
+        for side in range(2):
+            q[idx[I_TOES + 2 * side]] = toe
+            q[idx[I_TOES + 2 * side + 1]] += ank
+    for i in range(q.shape[0]):
+        full[i] = 0.0 if q[i] != q[i] else q[i]
+
+
+@njit
+def walk_update(s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray, x: float, y: float,
+                turn: float, tilt: float, roll: float, gyro: np.ndarray, has_gyro: bool, com: np.ndarray,
+                expected_com: np.ndarray, has_com: bool, dt: float, feet: np.ndarray, q: np.ndarray,
+                full: np.ndarray) -> tuple[bool, float, float, float]:
+    """`skills.walk.WalkEngine.update` but for the CoM: one cycle of state s for inputs x,
+    y, turn in [-1, 1], tilt and roll (rad), the gyro (rad/s; zeros when not has_gyro)
+    and, when has_com, the sensed and expected CoM (m, torso frame). Fills q and full
+    as `walk_targets`; returns (standing, odometry dx, dy, dtheta) (m, m, rad)."""
+    mx, my, ma = p[P_MAX_X], p[P_MAX_Y], p[P_MAX_A]
+    dx = _clip(x, -1.0, 1.0) * mx
+    dy = _clip(y, -1.0, 1.0) * my
+    dt_ = _clip(turn, -1.0, 1.0) * ma
+    if dx < 0:
+        dx *= p[P_BACKWARD]
+    moving = abs(dx) > 1e-9 or abs(dy) > 1e-9 or abs(dt_) > 1e-9
+    s[S_STOP_TIME] = 0.0 if moving else s[S_STOP_TIME] + dt
+    s0, s1, s2 = s[S_STEP_X], s[S_STEP_Y], s[S_STEP_TH]
+    s0 = _clip(s0 + p[P_PID_X] * (dx - s0), -mx, mx)
+    s1 = _clip(s1 + p[P_PID_Y] * (dy - s1), -my, my)
+    s2 = _clip(s2 + p[P_PID_ROT] * (dt_ - s2), -ma, ma)
+    if has_com:
+        err = _max2(abs(com[0] - expected_com[0]), abs(com[1] - expected_com[1]))
+        span = _max2(p[P_COM_ACCEPT] - p[P_COM_NORMAL], 1e-6)
+        f = 1.0 - _min2(1.0, _max2(0.0, (err - p[P_COM_NORMAL]) / span))
+        s[S_STEP_FACTOR] = f
+        s0, s1, s2 = s0 * f, s1 * f, s2 * f
+    s[S_STEP_X], s[S_STEP_Y], s[S_STEP_TH] = s0, s1, s2
+    s[S_TILT] += _BALANCE_SMOOTHING * (tilt - s[S_TILT])
+    s[S_ROLL] += _BALANCE_SMOOTHING * (roll - s[S_ROLL])
+    s[S_GYRO_X], s[S_GYRO_Y], s[S_GYRO_Z] = gyro[0], gyro[1], gyro[2]
+    if not moving and s[S_STOP_TIME] >= _STOP_JOG_TIME:
+        s[S_WALKING] = 0.0
+        s[S_HEADING_ERROR] = 0.0
+        s[S_TURN_STEP] = 0.0
+        s[S_PHI] = s[S_PHI_START]
+        s[S_STEP_X], s[S_STEP_Y], s[S_STEP_TH] = 0.0, 0.0, 0.0
+        walk_targets(s, p, legs, idx, True, feet, q, full)
+        return True, 0.0, 0.0, gyro[2] * dt if has_gyro else 0.0
+    new_phase = s[S_WALKING] == 0.0
+    s[S_WALKING] = 1.0
+    s[S_PHI] += dt / p[P_PHASE_LENGTH]
+    if s[S_PHI] >= s[S_PHI_END]:
+        walk_swap(s, p)
+        new_phase = True
+    span = s[S_PHI_END] - s[S_PHI_START]
+    frac = dt / (p[P_PHASE_LENGTH] * span)
+    turned = gyro[2] * dt if has_gyro else s[S_TURN_STEP] * frac
+    s[S_HEADING_ERROR] += turned - s2 * frac
+    limit = p[P_MAX_A]
+    wanted_turn = _clip(s2 - p[P_HEADING_GAIN] * s[S_HEADING_ERROR], -limit, limit)
+    if new_phase:  # side step and turn are fixed for a whole step
+        s[S_LATCHED_Y], s[S_LATCHED_TH] = s1, wanted_turn
+    s[S_TURN_STEP] = s[S_LATCHED_TH]
+    walk_targets(s, p, legs, idx, False, feet, q, full)
+    return False, s0 * frac, s[S_LATCHED_Y] * frac, turned
+
+
+@njit
+def walk_swap(s: np.ndarray, p: np.ndarray) -> None:
+    """`skills.walk.WalkEngine._swap`: the feet swap roles; the new pendulum phase starts
+    where its lateral position matches the old one's end."""
+    k = math.sqrt(_G / p[P_WALK_HEIGHT])
+    alpha = 6.0 - math.cosh(0.5 * k * s[S_PHI_END])
+    start = -math.acosh(alpha) / (0.5 * k) if alpha >= 1.0 else -0.5
+    start = _max2(start, -0.5)
+    s[S_PHI_START], s[S_PHI_END] = start, -start
+    s[S_PHI] = start
+    s[S_SWING] = 1.0 - s[S_SWING]
