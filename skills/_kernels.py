@@ -451,3 +451,73 @@ def walk_swap(s: np.ndarray, p: np.ndarray) -> None:
     s[S_PHI_START], s[S_PHI_END] = start, -start
     s[S_PHI] = start
     s[S_SWING] = 1.0 - s[S_SWING]
+
+
+# ---------------------------------------------------------------------- the IMU
+
+# `skills.imu.TiltEstimator`'s state vector: roll and pitch (rad), the low-passed
+# accelerometer (m/s^2, torso frame), started (0/1).
+T_ROLL, T_PITCH, T_ACC, T_STARTED, TILT_STATE = 0, 1, 2, 5, 6
+TILT_OK, TILT_SKIPPED, TILT_DOMAIN_ERROR = 0, 1, 2  # what `tilt_update` returns
+
+
+@njit
+def py_remainder(x: float, y: float) -> float:
+    """CPython's math.remainder(x, y) for finite x and finite, nonzero y (its m_remainder;
+    IEEE's remainder is exact, so any correct one agrees); NaN x gives NaN."""
+    if x != x:
+        return x
+    absx, absy = abs(x), abs(y)
+    m = np.fmod(absx, absy)
+    c = absy - m
+    if m < c:
+        r = m
+    elif m > c:
+        r = -c
+    else:  # halfway: the even multiple
+        r = m - 2.0 * np.fmod(0.5 * (absx - m), absy)
+    return math.copysign(1.0, x) * r
+
+
+@njit
+def tilt_update(st: np.ndarray, gyro: np.ndarray, accel: np.ndarray, dt: float, blend: float,
+                smoothing: float, exact: bool) -> int:
+    """`skills.imu.TiltEstimator.update` line for line on state st: gyro (rad/s) and
+    accelerometer (m/s^2) in the torso frame, dt in s. Returns TILT_SKIPPED (accelerometer
+    not finite: nothing changed) or TILT_DOMAIN_ERROR (where math.remainder raises, an
+    infinite roll: the accelerometer's low-pass moved, roll and pitch did not), else TILT_OK."""
+    ax, ay, az = accel[0], accel[1], accel[2]
+    if not (math.isfinite(ax) and math.isfinite(ay) and math.isfinite(az)):
+        return TILT_SKIPPED
+    a = st[T_ACC:T_ACC + 3]
+    started = st[T_STARTED] != 0.0
+    if started:
+        a[0] += smoothing * (ax - a[0])
+        a[1] += smoothing * (ay - a[1])
+        a[2] += smoothing * (az - a[2])
+    else:
+        a[0], a[1], a[2] = ax, ay, az
+    acc_roll, acc_pitch = math.atan2(a[1], a[2]), math.atan2(-a[0], py_hypot(a[1], a[2]))
+    if not started:
+        st[T_ROLL], st[T_PITCH], st[T_STARTED] = acc_roll, acc_pitch, 1.0
+        return TILT_OK
+    gx, gy, gz = gyro[0], gyro[1], gyro[2]
+    if exact:  # the up direction turns as -omega x up
+        cp = math.cos(st[T_PITCH])
+        ux, uy, uz = -math.sin(st[T_PITCH]), cp * math.sin(st[T_ROLL]), cp * math.cos(st[T_ROLL])
+        vx = ux - (gy * uz - gz * uy) * dt
+        vy = uy - (gz * ux - gx * uz) * dt
+        vz = uz - (gx * uy - gy * ux) * dt
+        roll, pitch = math.atan2(vy, vz), math.atan2(-vx, py_hypot(vy, vz))
+    else:  # small-angle Euler rates
+        roll = st[T_ROLL] + gx * dt
+        pitch = st[T_PITCH] + gy * dt
+    x = acc_roll - roll
+    if math.isinf(x):
+        return TILT_DOMAIN_ERROR
+    x = roll + blend * py_remainder(x, 2 * math.pi)
+    if math.isinf(x):
+        return TILT_DOMAIN_ERROR
+    st[T_ROLL] = py_remainder(x, 2 * math.pi)
+    st[T_PITCH] = pitch + blend * (acc_pitch - pitch)
+    return TILT_OK
