@@ -21,25 +21,32 @@ from models.jit import njit
 
 @njit
 def joint_command(target: np.ndarray, q: np.ndarray, prev_target: np.ndarray, has_prev_target: bool,
-                  prev_err: np.ndarray, has_prev_err: bool, kp: np.ndarray, kd: np.ndarray, dt: float,
-                  max_speed: np.ndarray, feedforward: float, cycle: float, new_target: np.ndarray,
-                  err: np.ndarray, pid_out: np.ndarray, v: np.ndarray) -> None:
+                  prev_err: np.ndarray, has_prev_err: bool, kp: np.ndarray, ki: np.ndarray, kd: np.ndarray,
+                  dt: float, max_speed: np.ndarray, feedforward: float, cycle: float, new_target: np.ndarray,
+                  err: np.ndarray, pid_out: np.ndarray, v: np.ndarray) -> bool:
     """Joint velocities v (rad/s) toward `target` (NaN: hold the previous target, else the
     angle q) for a PID with gains kp, kd (no integral) whose last error was prev_err,
     plus feedforward times the target's rate of change over `cycle`; the PID's output
     and the sum each clamped at +-max_speed (as np.maximum then np.minimum). Also fills
-    new_target (the targets used), err (their errors) and pid_out (the clamped PID)."""
+    new_target (the targets used), err (their errors) and pid_out (the clamped PID);
+    new_target may be prev_target and err prev_err (each is read before it is written).
+    Returns False, having written nothing, when a gain of ki is not zero (an integral)."""
+    for i in range(ki.shape[0]):
+        if ki[i] != 0.0:
+            return False
     for i in range(target.shape[0]):
+        pt = prev_target[i] if has_prev_target else 0.0
+        pe = prev_err[i] if has_prev_err else 0.0
         t = target[i]
         if t != t:
             if has_prev_target:
-                t = q[i] if prev_target[i] != prev_target[i] else prev_target[i]
+                t = q[i] if pt != pt else pt
             else:
                 t = q[i]
         new_target[i] = t
         e = t - q[i]
         err[i] = e
-        d = (e - prev_err[i]) / dt if has_prev_err else 0.0
+        d = (e - pe) / dt if has_prev_err else 0.0
         o = kp[i] * e
         o += kd[i] * d
         hi = max_speed[i]
@@ -50,7 +57,7 @@ def joint_command(target: np.ndarray, q: np.ndarray, prev_target: np.ndarray, ha
             o = hi
         pid_out[i] = o
         if has_prev_target:
-            w = o + feedforward * ((t - prev_target[i]) / cycle)
+            w = o + feedforward * ((t - pt) / cycle)
         else:
             w = o + feedforward * 0.0
         if not (w >= lo or w != w):
@@ -58,6 +65,7 @@ def joint_command(target: np.ndarray, q: np.ndarray, prev_target: np.ndarray, ha
         if not (w <= hi or w != w):
             w = hi
         v[i] = w
+    return True
 
 
 @intrinsic

@@ -66,15 +66,17 @@ class Motion:
         q = percept.joints
         prev = self._prev_target
         pid = self.pid
-        if not pid.ki.any():  # the usual case: one compiled pass, the same floats
-            target = np.asarray(target, dtype=float)
-            q = np.asarray(q, dtype=float)
-            n = len(target)
-            new, err, v = np.empty(n), np.empty(n), np.empty(n)
-            has_prev, has_err = prev is not None, pid._prev is not None
-            kernels.joint_command(target, q, prev if has_prev else _EMPTY, has_prev,
-                                  pid._prev if has_err else _EMPTY, has_err, pid.kp, pid.kd, pid.dt,
-                                  self.max_speed, float(self.feedforward), CYCLE, new, err, pid._out, v)
+        # The usual case, no integral: one compiled pass, the same floats, into the
+        # previous target and error's own arrays.
+        target = np.asarray(target, dtype=float)
+        n = len(target)
+        has_prev, has_err = prev is not None, pid._prev is not None
+        new = prev if has_prev else np.empty(n)
+        err = pid._prev if has_err else np.empty(n)
+        v = np.empty(n)
+        if kernels.joint_command(target, np.asarray(q, dtype=float), new if has_prev else _EMPTY, has_prev,
+                                 err if has_err else _EMPTY, has_err, pid.kp, pid.ki, pid.kd, pid.dt,
+                                 self.max_speed, float(self.feedforward), CYCLE, new, err, pid._out, v):
             pid._prev = err
             self._prev_target = new
             return v
@@ -171,7 +173,8 @@ class Motion:
         out = self.walk.update(x, y, turn, set_name, tilt=pitch, roll=roll, gyro=percept.gyro,
                                joints=percept.joints)
         self.last = out
-        target = out.targets.copy()
-        if head is not None:
+        target = out.targets
+        if head is not None:  # on a copy: `last` keeps the walk's own targets
+            target = target.copy()
             target[self.head] = head
         return self.command(target, percept)
