@@ -252,10 +252,11 @@ WALK_PARAMS = (
 # The walk engine's state vector: phase (start, end, now), the swinging foot (0 left,
 # 1 right), step sizes x, y (m) and theta (rad), walking (0/1), s since zero velocity was
 # asked, low-passed tilt and roll (rad), the CoM step factor, the gyro (rad/s, torso
-# frame), heading error (rad), turn per phase (rad), latched side step (m) and turn (rad).
+# frame), heading error (rad), turn per phase (rad), latched side step (m) and turn (rad),
+# whether the CoM the last targets put the body at is known (0/1), and that CoM (m, 3).
 (S_PHI_START, S_PHI_END, S_PHI, S_SWING, S_STEP_X, S_STEP_Y, S_STEP_TH, S_WALKING, S_STOP_TIME,
  S_TILT, S_ROLL, S_STEP_FACTOR, S_GYRO_X, S_GYRO_Y, S_GYRO_Z, S_HEADING_ERROR, S_TURN_STEP,
- S_LATCHED_Y, S_LATCHED_TH, WALK_STATE) = range(20)
+ S_LATCHED_Y, S_LATCHED_TH, S_HAS_EXPECTED_COM, S_EXPECTED_COM, WALK_STATE) = (*range(21), 23)
 
 # Joint indices of the walk's targets (`WalkEngine._idx`): left then right leg lj1..lj6,
 # arm joints laj1, raj1, laj2, raj2, laj3, raj3, laj4, raj4, then whether the robot has
@@ -392,13 +393,15 @@ def walk_targets(s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray
 
 @njit
 def walk_update(s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray, x: float, y: float,
-                turn: float, tilt: float, roll: float, gyro: np.ndarray, has_gyro: bool, com: np.ndarray,
-                expected_com: np.ndarray, has_com: bool, dt: float, feet: np.ndarray, q: np.ndarray,
-                full: np.ndarray) -> tuple[bool, float, float, float]:
-    """`skills.walk.WalkEngine.update` but for the CoM: one cycle of state s for inputs x,
-    y, turn in [-1, 1], tilt and roll (rad), the gyro (rad/s; zeros when not has_gyro)
-    and, when has_com, the sensed and expected CoM (m, torso frame). Fills q and full
-    as `walk_targets`; returns (standing, odometry dx, dy, dtheta) (m, m, rad)."""
+                turn: float, tilt: float, roll: float, gyro: np.ndarray, has_gyro: bool, joints: np.ndarray,
+                has_joints: bool, com_int: np.ndarray, com_float: np.ndarray, dt: float, feet: np.ndarray,
+                q: np.ndarray, full: np.ndarray) -> tuple[bool, float, float, float]:
+    """`skills.walk.WalkEngine.update`: one cycle of state s for inputs x, y, turn in
+    [-1, 1], tilt and roll (rad), the gyro (rad/s; zeros when not has_gyro) and, when
+    has_joints, the measured angles (rad, league order) whose CoM (`center_of_mass` over
+    com_int, com_float) against the expected one shrinks the steps. Fills q and full as
+    `walk_targets` and the expected CoM of full into s; returns (standing, odometry dx,
+    dy, dtheta) (m, m, rad)."""
     mx, my, ma = p[P_MAX_X], p[P_MAX_Y], p[P_MAX_A]
     dx = _clip(x, -1.0, 1.0) * mx
     dy = _clip(y, -1.0, 1.0) * my
@@ -411,8 +414,10 @@ def walk_update(s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray,
     s0 = _clip(s0 + p[P_PID_X] * (dx - s0), -mx, mx)
     s1 = _clip(s1 + p[P_PID_Y] * (dy - s1), -my, my)
     s2 = _clip(s2 + p[P_PID_ROT] * (dt_ - s2), -ma, ma)
-    if has_com:
-        err = _max2(abs(com[0] - expected_com[0]), abs(com[1] - expected_com[1]))
+    if has_joints and s[S_HAS_EXPECTED_COM] != 0.0:
+        com = np.empty(3)
+        center_of_mass(joints, com_int, com_float, com)
+        err = _max2(abs(com[0] - s[S_EXPECTED_COM]), abs(com[1] - s[S_EXPECTED_COM + 1]))
         span = _max2(p[P_COM_ACCEPT] - p[P_COM_NORMAL], 1e-6)
         f = 1.0 - _min2(1.0, _max2(0.0, (err - p[P_COM_NORMAL]) / span))
         s[S_STEP_FACTOR] = f
@@ -428,6 +433,7 @@ def walk_update(s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray,
         s[S_PHI] = s[S_PHI_START]
         s[S_STEP_X], s[S_STEP_Y], s[S_STEP_TH] = 0.0, 0.0, 0.0
         walk_targets(s, p, legs, idx, True, feet, q, full)
+        _expect_com(s, full, com_int, com_float)
         return True, 0.0, 0.0, gyro[2] * dt if has_gyro else 0.0
     new_phase = s[S_WALKING] == 0.0
     s[S_WALKING] = 1.0
@@ -445,7 +451,15 @@ def walk_update(s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray,
         s[S_LATCHED_Y], s[S_LATCHED_TH] = s1, wanted_turn
     s[S_TURN_STEP] = s[S_LATCHED_TH]
     walk_targets(s, p, legs, idx, False, feet, q, full)
+    _expect_com(s, full, com_int, com_float)
     return False, s0 * frac, s[S_LATCHED_Y] * frac, turned
+
+
+@njit
+def _expect_com(s: np.ndarray, full: np.ndarray, com_int: np.ndarray, com_float: np.ndarray) -> None:
+    """The CoM (m, torso frame) the targets `full` put the body at, into the state."""
+    center_of_mass(full, com_int, com_float, s[S_EXPECTED_COM:S_EXPECTED_COM + 3])
+    s[S_HAS_EXPECTED_COM] = 1.0
 
 
 @njit
@@ -529,3 +543,89 @@ def tilt_update(st: np.ndarray, gyro: np.ndarray, accel: np.ndarray, dt: float, 
     st[T_ROLL] = py_remainder(x, 2 * math.pi)
     st[T_PITCH] = pitch + blend * (acc_pitch - pitch)
     return TILT_OK
+
+
+# ------------------------------------------------------------ center of mass
+
+# Joint kinds of `center_of_mass`'s tree (pinocchio's joint models).
+J_RX, J_RY, J_RZ, J_UNALIGNED, J_FREE = 0, 1, 2, 3, 4
+
+
+@njit
+def _dot_row(r0: float, r1: float, r2: float, v0: float, v1: float, v2: float, row: int) -> float:
+    """Row `row` of a 3x3 by 3 product in Eigen's order: rows 0 and 1 as packets
+    ((a0 + a1) + a2), row 2 as a reduction (a0 + (a1 + a2))."""
+    if row < 2:
+        return (r0 * v0 + r1 * v1) + r2 * v2
+    return r0 * v0 + (r1 * v1 + r2 * v2)
+
+
+@njit
+def center_of_mass(q: np.ndarray, ijoint: np.ndarray, fjoint: np.ndarray, out: np.ndarray) -> None:
+    """Center of mass (m, torso frame) into out (3,) for league-order angles q (rad), as
+    pinocchio's centerOfMass(model, data, q, False) computes it, bit for bit: each joint's
+    placement in its parent (liMi, pinocchio's products) and the backward sum of
+    subtree moments com[parent] += R com[i] + m[i] t, divided by the total mass.
+
+    ijoint (njoints, 3): kind (J_RX ...), parent, league index of the angle (-1: none);
+    fjoint (njoints, 19): placement rotation (row-major 9) and translation (3), the
+    unaligned axis (3), mass times lever (3) and the subtree's mass (1). Row 0 is the
+    universe; the free flyer stays at the identity."""
+    n = ijoint.shape[0]
+    com = np.zeros((n, 3))
+    for i in range(1, n):
+        com[i, 0], com[i, 1], com[i, 2] = fjoint[i, 15], fjoint[i, 16], fjoint[i, 17]
+    r = np.empty(9)
+    for i in range(n - 1, 0, -1):
+        kind, parent, qi = ijoint[i, 0], ijoint[i, 1], ijoint[i, 2]
+        f = fjoint[i]
+        # liMi: rotation r (row-major) and translation t = placement translation.
+        if kind <= J_RZ:
+            a = q[qi]
+            s, c = math.sin(a), math.cos(a)
+            # pinocchio's se3Action: the placement's column i0 kept, i1 turned toward i2, and
+            # i2 the cross product of the two.
+            if kind == J_RX:
+                i0, i1, i2 = 0, 1, 2
+            elif kind == J_RY:
+                i0, i1, i2 = 1, 2, 0
+            else:
+                i0, i1, i2 = 2, 0, 1
+            for k in range(3):
+                r[3 * k + i0] = f[3 * k + i0]
+                r[3 * k + i1] = c * f[3 * k + i1] + s * f[3 * k + i2]
+            for k in range(3):  # column i2 = column i0 x column i1 (Eigen's cross)
+                k1, k2 = (k + 1) % 3, (k + 2) % 3
+                r[3 * k + i2] = r[3 * k1 + i0] * r[3 * k2 + i1] - r[3 * k2 + i0] * r[3 * k1 + i1]
+            tx, ty, tz = f[9], f[10], f[11]
+        else:
+            if kind == J_UNALIGNED:
+                a = q[qi]
+                s, c = math.sin(a), math.cos(a)
+                ax, ay, az = f[12], f[13], f[14]
+                sx, sy, sz = s * ax, s * ay, s * az
+                cx, cy, cz = (1.0 - c) * ax, (1.0 - c) * ay, (1.0 - c) * az
+                tmp = cx * ay
+                m01, m10 = tmp - sz, tmp + sz
+                tmp = cx * az
+                m02, m20 = tmp + sy, tmp - sy
+                tmp = cy * az
+                m12, m21 = tmp - sx, tmp + sx
+                m00, m11, m22 = cx * ax + c, cy * ay + c, cz * az + c
+            else:  # the free flyer at the identity
+                m00, m01, m02, m10, m11, m12, m20, m21, m22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
+            for k in range(3):  # placement rotation times the joint's
+                r[3 * k] = _dot_row(f[3 * k], f[3 * k + 1], f[3 * k + 2], m00, m10, m20, k)
+                r[3 * k + 1] = _dot_row(f[3 * k], f[3 * k + 1], f[3 * k + 2], m01, m11, m21, k)
+                r[3 * k + 2] = _dot_row(f[3 * k], f[3 * k + 1], f[3 * k + 2], m02, m12, m22, k)
+            # translation + rotation times the joint's zero translation
+            tx = f[9] + _dot_row(f[0], f[1], f[2], 0.0, 0.0, 0.0, 0)
+            ty = f[10] + _dot_row(f[3], f[4], f[5], 0.0, 0.0, 0.0, 1)
+            tz = f[11] + _dot_row(f[6], f[7], f[8], 0.0, 0.0, 0.0, 2)
+        m = f[18]
+        c0, c1, c2 = com[i, 0], com[i, 1], com[i, 2]
+        com[parent, 0] += _dot_row(r[0], r[1], r[2], c0, c1, c2, 0) + m * tx
+        com[parent, 1] += _dot_row(r[3], r[4], r[5], c0, c1, c2, 1) + m * ty
+        com[parent, 2] += _dot_row(r[6], r[7], r[8], c0, c1, c2, 2) + m * tz
+    total = fjoint[0, 18]
+    out[0], out[1], out[2] = com[0, 0] / total, com[0, 1] / total, com[0, 2] / total

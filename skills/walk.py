@@ -44,7 +44,7 @@ STAND_DAMP_TIME = 1.0  # s after a stop request that the ankles' gyro damping st
 STAND_DAMP_FADE = 0.5  # s ... before it has faded out (see `foot_targets`)
 BALANCE_SMOOTHING = 0.3  # weight of a new tilt/roll estimate in the balance terms' low-pass
 DATA = Path(__file__).parent / "data"
-_ZERO3 = np.zeros(3)  # the kernels' gyro and CoMs when there are none
+_ZERO3 = np.zeros(3)  # the kernel's gyro when there is none
 
 # Parameter files name these (UT names); units as UT writes them, converted once at load.
 WALK_SCHEMA: dict[str, str] = {
@@ -176,9 +176,8 @@ class WalkOutput:
 class WalkEngine:
     """The walk of one robot: call `update` once per 20 ms cycle.
 
-    The cycle runs compiled (`skills._kernels.walk_update`) over a state vector; the
-    phase, step and balance terms read as attributes. The center of mass stays with
-    pinocchio (`RobotKinematics.com`)."""
+    The cycle runs compiled (`skills._kernels.walk_update`, its center of mass too) over
+    a state vector; the phase, step and balance terms read as attributes."""
 
     def __init__(self, robot_type: int, sets: Mapping[str, WalkParams] | None = None,
                  dt: float = CYCLE) -> None:
@@ -221,7 +220,6 @@ class WalkEngine:
         s[kernels.S_PHI] = -0.5
         s[kernels.S_STOP_TIME] = STAND_DAMP_TIME + STAND_DAMP_FADE  # zero velocity asked long ago
         s[kernels.S_STEP_FACTOR] = 1.0
-        self.expected_com: np.ndarray | None = None
 
     # ---------------------------------------------------------------- the state
 
@@ -295,6 +293,13 @@ class WalkEngine:
         """Side step (m) and turn (rad) of the current step."""
         return float(self._s[kernels.S_LATCHED_Y]), float(self._s[kernels.S_LATCHED_TH])
 
+    @property
+    def expected_com(self) -> np.ndarray | None:
+        """The CoM (m, torso frame) the last targets put the body at (a copy); None after
+        a reset. The next cycle's measured CoM is held against it."""
+        s, i = self._s, kernels.S_EXPECTED_COM
+        return s[i:i + 3].copy() if s[kernels.S_HAS_EXPECTED_COM] else None
+
     def _param_vector(self, p: WalkParams) -> np.ndarray:
         """The kernels' vector of `p` (`skills._kernels.WALK_PARAMS`), made once per set."""
         hit = self._pvecs.get(id(p))
@@ -316,18 +321,14 @@ class WalkEngine:
         if set_name not in self.sets:
             raise KeyError(f"unknown walk set {set_name!r}; sets are {', '.join(self.sets)}")
         p = self.params = self.sets[set_name]
-        # Center-of-mass error feedback: the sensed CoM against the one the last targets expected.
-        exp = self.expected_com
-        has_com = joints is not None and exp is not None
-        com = self.kin.com(joints) if has_com else _ZERO3
-        has_gyro = gyro is not None
-        g = np.ascontiguousarray(gyro, dtype=float) if has_gyro else _ZERO3
+        has_gyro, has_joints = gyro is not None, joints is not None
         q = np.empty(len(self.names))
+        kin = self.kin
         standing, ox, oy, oth = kernels.walk_update(
             self._s, self._param_vector(p), self._legs, self._idx, float(x), float(y), float(turn),
-            float(tilt), float(roll), g, has_gyro, com, exp if has_com else _ZERO3, has_com, self.dt,
-            self._feet, q, self._full)
-        self.expected_com = self.kin.com(self._full)
+            float(tilt), float(roll), np.ascontiguousarray(gyro, dtype=float) if has_gyro else _ZERO3,
+            has_gyro, np.ascontiguousarray(joints, dtype=float) if has_joints else self._full, has_joints,
+            kin._com_int, kin._com_float, self.dt, self._feet, q, self._full)
         return WalkOutput(q, (ox, oy, oth), standing)
 
     # -------------------------------------------------------------- foot targets
