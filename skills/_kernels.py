@@ -629,3 +629,32 @@ def center_of_mass(q: np.ndarray, ijoint: np.ndarray, fjoint: np.ndarray, out: n
         com[parent, 2] += _dot_row(r[6], r[7], r[8], c0, c1, c2, 2) + m * tz
     total = fjoint[0, 18]
     out[0], out[1], out[2] = com[0, 0] / total, com[0, 1] / total, com[0, 2] / total
+
+
+# -------------------------------------------------------- one walk step, whole
+
+STEP_OK, STEP_TILT_ERROR, STEP_NO_COMMAND = 0, 1, 2  # what `walk_step` returns first
+
+
+@njit
+def walk_step(tilt: np.ndarray, gyro: np.ndarray, accel: np.ndarray, tilt_dt: float, blend: float,
+              smoothing: float, exact: bool, x: float, y: float, turn: float, joints: np.ndarray,
+              s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray, com_int: np.ndarray,
+              com_float: np.ndarray, dt: float, feet: np.ndarray, full: np.ndarray, q: np.ndarray,
+              prev_target: np.ndarray, has_prev_target: bool, prev_err: np.ndarray, has_prev_err: bool,
+              kp: np.ndarray, ki: np.ndarray, kd: np.ndarray, pid_dt: float, max_speed: np.ndarray,
+              feedforward: float, cycle: float, new_target: np.ndarray, err: np.ndarray,
+              pid_out: np.ndarray, v: np.ndarray) -> tuple[int, bool, float, float, float]:
+    """`skills.motion.Motion.walk_step` in one call: `tilt_update` of the tilt state, then
+    `walk_update` with its pitch and roll, the gyro and the measured joints (targets into
+    q), then `joint_command` toward q (velocities into v). Returns (STEP_TILT_ERROR, ...)
+    having done nothing more when the tilt update would raise, (STEP_NO_COMMAND, ...) with
+    the walk done but no command when ki is not zero, else STEP_OK; then the walk's
+    standing and odometry."""
+    if tilt_update(tilt, gyro, accel, tilt_dt, blend, smoothing, exact) == TILT_DOMAIN_ERROR:
+        return STEP_TILT_ERROR, False, 0.0, 0.0, 0.0
+    standing, ox, oy, oth = walk_update(s, p, legs, idx, x, y, turn, tilt[T_PITCH], tilt[T_ROLL], gyro, True,
+                                        joints, True, com_int, com_float, dt, feet, q, full)
+    done = joint_command(q, joints, prev_target, has_prev_target, prev_err, has_prev_err, kp, ki, kd, pid_dt,
+                         max_speed, feedforward, cycle, new_target, err, pid_out, v)
+    return STEP_OK if done else STEP_NO_COMMAND, standing, ox, oy, oth

@@ -318,18 +318,26 @@ class WalkEngine:
         from the IMU); joints: measured angles (league order) for the center of
         mass feedback; gyro: the torso's angular velocity (rad/s, torso frame).
         """
+        s, pv, legs, idx, com_int, com_float, dt, feet, full = self._kernel_args(set_name)
+        has_gyro, has_joints = gyro is not None, joints is not None
+        q = np.empty(len(self.names))
+        standing, ox, oy, oth = kernels.walk_update(
+            s, pv, legs, idx, float(x), float(y), float(turn), float(tilt), float(roll),
+            np.ascontiguousarray(gyro, dtype=float) if has_gyro else _ZERO3, has_gyro,
+            np.ascontiguousarray(joints, dtype=float) if has_joints else full, has_joints,
+            com_int, com_float, dt, feet, q, full)
+        return WalkOutput(q, (ox, oy, oth), standing)
+
+    def _kernel_args(self, set_name: str) -> tuple:
+        """Take walk set `set_name` for this cycle; the walk kernels' state, parameters and
+        tables: (state, params, leg constants, target indices, the CoM tables, dt, feet
+        scratch, CoM scratch)."""
         if set_name not in self.sets:
             raise KeyError(f"unknown walk set {set_name!r}; sets are {', '.join(self.sets)}")
         p = self.params = self.sets[set_name]
-        has_gyro, has_joints = gyro is not None, joints is not None
-        q = np.empty(len(self.names))
         kin = self.kin
-        standing, ox, oy, oth = kernels.walk_update(
-            self._s, self._param_vector(p), self._legs, self._idx, float(x), float(y), float(turn),
-            float(tilt), float(roll), np.ascontiguousarray(gyro, dtype=float) if has_gyro else _ZERO3,
-            has_gyro, np.ascontiguousarray(joints, dtype=float) if has_joints else self._full, has_joints,
-            kin._com_int, kin._com_float, self.dt, self._feet, q, self._full)
-        return WalkOutput(q, (ox, oy, oth), standing)
+        return (self._s, self._param_vector(p), self._legs, self._idx, kin._com_int, kin._com_float, self.dt,
+                self._feet, self._full)
 
     # -------------------------------------------------------------- foot targets
 
