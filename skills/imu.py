@@ -32,15 +32,10 @@ import math
 
 import numpy as np
 
+from skills import _kernels as kernels
 from skills.frames import rot_x, rot_y
 
 GRAVITY = 9.81  # m/s^2
-
-
-def _roll_pitch(x: float, y: float, z: float) -> tuple[float, float]:
-    """Roll and pitch (rad) of a torso that sees the world's up direction along (x, y, z)
-    (torso frame; any length): up = (-sin pitch, cos pitch sin roll, cos pitch cos roll)."""
-    return math.atan2(y, z), math.atan2(-x, math.hypot(y, z))
 
 
 class TiltEstimator:
@@ -63,52 +58,40 @@ class TiltEstimator:
         self.exact = exact
         self.fall_angle = fall_angle
         self.accel_smoothing = accel_smoothing
-        self.roll = 0.0
-        self.pitch = 0.0
-        self._a = [0.0, 0.0, GRAVITY]  # the low-passed accelerometer (m/s^2), as floats
-        self._started = not from_first
+        # roll, pitch, the low-passed accelerometer and started (`skills._kernels.T_ROLL` ...)
+        self._st = np.array([0.0, 0.0, 0.0, 0.0, GRAVITY, 0.0 if from_first else 1.0])
+
+    @property
+    def roll(self) -> float:
+        """Estimated roll (rad)."""
+        return float(self._st[kernels.T_ROLL])
+
+    @property
+    def pitch(self) -> float:
+        """Estimated pitch (rad, forward positive)."""
+        return float(self._st[kernels.T_PITCH])
+
+    @property
+    def _a(self) -> list[float]:
+        """The low-passed accelerometer (m/s^2, torso frame), as floats."""
+        return self._st[kernels.T_ACC:kernels.T_ACC + 3].tolist()
 
     @property
     def _acc(self) -> np.ndarray:
         """The low-passed accelerometer (m/s^2, torso frame)."""
-        return np.array(self._a)
+        return self._st[kernels.T_ACC:kernels.T_ACC + 3].copy()
 
     def update(self, gyro: np.ndarray, accel: np.ndarray, dt: float) -> None:
-        """One cycle: gyro (rad/s) and accelerometer (m/s^2) in the torso frame, dt in s."""
-        # Scalar floats throughout: the same operations as on 3-arrays, bit for bit, in
-        # about a quarter of the time (this runs three or four times an agent cycle).
-        ax, ay, az = np.asarray(accel, dtype=float).tolist()
-        if not (math.isfinite(ax) and math.isfinite(ay) and math.isfinite(az)):
-            return
-        a = self._a
-        if self._started:
-            s = self.accel_smoothing
-            a[0] += s * (ax - a[0])
-            a[1] += s * (ay - a[1])
-            a[2] += s * (az - a[2])
-        else:
-            a[0], a[1], a[2] = ax, ay, az
-        acc_roll, acc_pitch = _roll_pitch(a[0], a[1], a[2])
-        if not self._started:
-            self.roll, self.pitch, self._started = acc_roll, acc_pitch, True
-            return
-        gx, gy, gz = np.asarray(gyro, dtype=float).tolist()
-        if self.exact:
-            # The world's up direction in the torso frame turns against the torso's
-            # angular velocity, du/dt = -omega x u, whatever the yaw rate.
-            # Scalars: with np.cross an update took 43 us, now about 8.
-            cp = math.cos(self.pitch)
-            ux, uy, uz = -math.sin(self.pitch), cp * math.sin(self.roll), cp * math.cos(self.roll)
-            roll, pitch = _roll_pitch(ux - (gy * uz - gz * uy) * dt, uy - (gz * ux - gx * uz) * dt,
-                                      uz - (gx * uy - gy * ux) * dt)
-        else:
-            # Small-angle Euler rates: droll ~ gx, dpitch ~ gy.
-            roll = self.roll + gx * dt
-            pitch = self.pitch + gy * dt
-        k = self.blend
-        # Wrapped: lying, the roll passes +-pi, and an unwrapped 2 pi read as a lean.
-        self.roll = math.remainder(roll + k * math.remainder(acc_roll - roll, 2 * math.pi), 2 * math.pi)
-        self.pitch = pitch + k * (acc_pitch - pitch)
+        """One cycle: gyro (rad/s) and accelerometer (m/s^2) in the torso frame, dt in s.
+
+        Compiled (`skills._kernels.tilt_update`), the same floats as the Python it replaced;
+        a non-finite accelerometer is skipped, an infinite roll raises as math.remainder does.
+        """
+        status = kernels.tilt_update(self._st, np.asarray(gyro, dtype=float), np.asarray(accel, dtype=float),
+                                     float(dt), float(self.blend), float(self.accel_smoothing),
+                                     bool(self.exact))
+        if status == kernels.TILT_DOMAIN_ERROR:
+            raise ValueError("math domain error")
 
     @property
     def level(self) -> np.ndarray:

@@ -24,6 +24,7 @@ import pinocchio as pin
 
 from models import nao
 from models.robot import robot_mjcf
+from skills import _kernels as kernels
 
 SIDES = ("l", "r")
 LEG_JOINTS = tuple(f"lj{i}" for i in range(1, 7))  # per side, prefixed with "l"/"r"
@@ -80,6 +81,30 @@ class RobotKinematics:
         self._ankle = (m.getJointId("llj6"), m.getJointId("rlj6"))
         self._camera = self._fid["camera"]
         self.mass = float(pin.computeTotalMass(m))
+        self._com_tables()
+
+    def _com_tables(self) -> None:
+        """The joint tree for `skills._kernels.center_of_mass` (its docstring gives the layout)."""
+        m = self.model
+        league = {int(iq): k for k, iq in enumerate(self._qidx)}  # configuration index -> league index
+        kinds = {"JointModelRX": kernels.J_RX, "JointModelRY": kernels.J_RY, "JointModelRZ": kernels.J_RZ,
+                 "JointModelRevoluteUnaligned": kernels.J_UNALIGNED, "JointModelFreeFlyer": kernels.J_FREE}
+        ij, fj = np.zeros((m.njoints, 3), dtype=np.int64), np.zeros((m.njoints, 19))
+        mass = np.zeros(m.njoints)
+        for i in range(1, m.njoints):
+            joint, place, inertia = m.joints[i], m.jointPlacements[i], m.inertias[i]
+            kind = kinds[joint.shortname()]
+            ij[i] = kind, m.parents[i], -1 if kind == kernels.J_FREE else league[joint.idx_q]
+            fj[i, 0:9] = place.rotation.reshape(9)
+            fj[i, 9:12] = place.translation
+            if kind == kernels.J_UNALIGNED:
+                fj[i, 12:15] = joint.extract().axis
+            fj[i, 15:18] = inertia.mass * inertia.lever
+            mass[i] = inertia.mass
+        for i in range(m.njoints - 1, 0, -1):  # subtree masses, summed in pinocchio's order
+            mass[m.parents[i]] += mass[i]
+        fj[:, 18] = mass
+        self._com_int, self._com_float = ij, fj
 
     # ----------------------------------------------------------------- helpers
 
@@ -125,8 +150,11 @@ class RobotKinematics:
         return oMi[self._ankle[0]].translation.copy(), oMi[self._ankle[1]].translation.copy()
 
     def com(self, q) -> np.ndarray:
-        """Center of mass (m, torso frame), shape (3,)."""
-        return pin.centerOfMass(self.model, self.data, self.pin_q(q), False).copy()
+        """Center of mass (m, torso frame), shape (3,): pinocchio's centerOfMass, bit for
+        bit, compiled (`skills._kernels.center_of_mass`)."""
+        out = np.empty(3)
+        kernels.center_of_mass(np.asarray(q, dtype=float), self._com_int, self._com_float, out)
+        return out
 
     def feet_and_com(self, q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Hot path: (left sole 4x4, right sole 4x4, com (3,)) from one kinematics pass."""

@@ -66,15 +66,17 @@ class Motion:
         q = percept.joints
         prev = self._prev_target
         pid = self.pid
-        if not pid.ki.any():  # the usual case: one compiled pass, the same floats
-            target = np.asarray(target, dtype=float)
-            q = np.asarray(q, dtype=float)
-            n = len(target)
-            new, err, v = np.empty(n), np.empty(n), np.empty(n)
-            has_prev, has_err = prev is not None, pid._prev is not None
-            kernels.joint_command(target, q, prev if has_prev else _EMPTY, has_prev,
-                                  pid._prev if has_err else _EMPTY, has_err, pid.kp, pid.kd, pid.dt,
-                                  self.max_speed, float(self.feedforward), CYCLE, new, err, pid._out, v)
+        # The usual case, no integral: one compiled pass, the same floats, into the
+        # previous target and error's own arrays.
+        target = np.asarray(target, dtype=float)
+        n = len(target)
+        has_prev, has_err = prev is not None, pid._prev is not None
+        new = prev if has_prev else np.empty(n)
+        err = pid._prev if has_err else np.empty(n)
+        v = np.empty(n)
+        if kernels.joint_command(target, np.asarray(q, dtype=float), new if has_prev else _EMPTY, has_prev,
+                                 err if has_err else _EMPTY, has_err, pid.kp, pid.ki, pid.kd, pid.dt,
+                                 self.max_speed, float(self.feedforward), CYCLE, new, err, pid._out, v):
             pid._prev = err
             self._prev_target = new
             return v
@@ -162,16 +164,45 @@ class Motion:
                   set_name: str = "go_to_target", head: np.ndarray | None = None,
                   kp: float | None = None) -> np.ndarray:
         """Joint velocities for one walk cycle; `head` angles (hj1, hj2) if given; `kp`
-        (1/s) instead of the walk set's joint gain."""
-        pitch, roll = self.sense(percept)
+        (1/s) instead of the walk set's joint gain.
+
+        The tilt estimate, the walk and the joint command run as one compiled call
+        (`skills._kernels.walk_step`) unless a head is given (or the set is unknown).
+        """
+        walk, pid = self.walk, self.pid
         if kp is not None:
-            self.pid.kp[:] = kp
-        elif set_name in self.walk.sets:
-            self.pid.kp[:] = self.walk.sets[set_name].joint_kp
-        out = self.walk.update(x, y, turn, set_name, tilt=pitch, roll=roll, gyro=percept.gyro,
-                               joints=percept.joints)
-        self.last = out
-        target = out.targets.copy()
-        if head is not None:
-            target[self.head] = head
-        return self.command(target, percept)
+            pid.kp[:] = kp
+        elif set_name in walk.sets:
+            pid.kp[:] = walk.sets[set_name].joint_kp
+        if head is not None or set_name not in walk.sets:
+            pitch, roll = self.sense(percept)
+            out = self.last = walk.update(x, y, turn, set_name, tilt=pitch, roll=roll, gyro=percept.gyro,
+                                          joints=percept.joints)
+            target = out.targets
+            if head is not None:  # on a copy: `last` keeps the walk's own targets
+                target = target.copy()
+                target[self.head] = head
+            return self.command(target, percept)
+        tilt = self.tilt
+        joints = np.ascontiguousarray(percept.joints, dtype=float)
+        n = len(walk.names)
+        q, v = np.empty(n), np.empty(n)
+        prev, err = self._prev_target, pid._prev
+        has_prev, has_err = prev is not None, err is not None
+        new = prev if has_prev else np.empty(n)  # the command writes over the last target and error
+        err = err if has_err else np.empty(n)
+        status, standing, ox, oy, oth = kernels.walk_step(
+            tilt._st, np.ascontiguousarray(percept.gyro, dtype=float),
+            np.ascontiguousarray(percept.accel, dtype=float), CYCLE, float(tilt.blend),
+            float(tilt.accel_smoothing), bool(tilt.exact), float(x), float(y), float(turn), joints,
+            *walk._kernel_args(set_name), q, new if has_prev else _EMPTY, has_prev,
+            err if has_err else _EMPTY, has_err, pid.kp, pid.ki, pid.kd, pid.dt, self.max_speed,
+            float(self.feedforward), CYCLE, new, err, pid._out, v)
+        if status == kernels.STEP_TILT_ERROR:
+            raise ValueError("math domain error")  # as the tilt estimate's math.remainder
+        self.last = WalkOutput(q, (ox, oy, oth), standing)
+        if status == kernels.STEP_NO_COMMAND:  # an integral gain: numpy's PID
+            return self.command(q, percept)
+        pid._prev = err
+        self._prev_target = new
+        return v

@@ -87,3 +87,34 @@ def test_tracks_targets_in_physics():
     for n in ("laj1", "raj1", "laj2", "raj2", "hj1"):
         i = names.index(n)
         assert abs(q[i] - target[i]) < 0.05, n
+
+
+def test_compiled_command_matches_the_numpy_path_bit_for_bit(monkeypatch):
+    """`Motion.command`'s compiled pass (in place into the last target and error) against
+    its numpy path: NaN targets held, resets, changed gains, and arrays kept by callers."""
+    from types import SimpleNamespace
+
+    from skills import motion as motion_module
+    from skills.motion import Motion
+
+    fast, slow = Motion(0), Motion(0)
+    rng = np.random.default_rng(3)
+    n = len(fast.names)
+    kept = []
+    for i in range(200):
+        if i in (50, 120):
+            fast.reset()
+            slow.reset()
+        if i == 80:
+            fast.pid.kp[:] = slow.pid.kp[:] = 30.0
+        target = rng.normal(0, 0.5, n)
+        target[rng.random(n) < 0.2] = np.nan
+        percept = SimpleNamespace(joints=rng.normal(0, 0.5, n))
+        v = fast.command(target, percept)
+        with monkeypatch.context() as m:
+            m.setattr(motion_module.kernels, "joint_command", lambda *args: False)
+            want = slow.command(target, percept)
+        assert v.tobytes() == want.tobytes(), i
+        assert fast.held_target.tobytes() == slow.held_target.tobytes(), i
+        kept.append((v, v.copy()))
+    assert all(a.tobytes() == b.tobytes() for a, b in kept)  # returned arrays are the caller's

@@ -129,3 +129,17 @@ def test_rpy_round_trip():
     for _ in range(200):
         rpy = rng.uniform([-np.pi, -np.pi / 2, -np.pi], [np.pi, np.pi / 2, np.pi])
         np.testing.assert_allclose(matrix_to_rpy(rpy_to_matrix(rpy)), rpy, atol=1e-9)
+
+
+@pytest.mark.parametrize("robot_type", range(5))
+def test_compiled_com_is_pinocchio_s_bit_for_bit(robot_type):
+    """`RobotKinematics.com` (`skills._kernels.center_of_mass`) against pinocchio's
+    centerOfMass, inside the joint limits and far outside them."""
+    import pinocchio as pin
+
+    kin = RobotKinematics(robot_type)
+    rng = np.random.default_rng(robot_type)
+    for trial in range(1000):
+        q = rng.uniform(kin.lower, kin.upper) if trial % 2 else rng.uniform(-4.0, 4.0, len(kin.lower))
+        want = pin.centerOfMass(kin.model, kin.data, kin.pin_q(q), False)
+        assert kin.com(q).tobytes() == want.tobytes(), trial
