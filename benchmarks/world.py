@@ -155,7 +155,8 @@ STAGES = (
     ("decision", "agent.player", "Player", "view"),
     ("decision", "agent.player", "Player", "decide"),
     ("body", "agent.body", "Body", "execute"),
-    ("walk_engine", "skills.walk", "WalkEngine", "update"),
+    ("walk_step", "skills.motion", "Motion", "walk_step"),  # tilt, walk and joint command: one compiled call
+    ("walk_engine", "skills.walk", "WalkEngine", "update"),  # outside walk_step's compiled path
     ("ik", "skills.ik", "LegIK", "solve"),
     ("imu", "skills.imu", "TiltEstimator", "update"),
     ("motion_command", "skills.motion", "Motion", "command"),
