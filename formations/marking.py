@@ -167,8 +167,9 @@ def plan(
     formation = np.asarray(formation, dtype=float)
     mask = opponents_to_mark(opponents, ball, marked, p)
     opponents = np.asarray(opponents, dtype=float).reshape(-1, 2)
-    spots = marking_positions(opponents, p.mark_distance)
-    marks = {int(i): spots[i] for i in np.flatnonzero(mask)}
+    marked_ids = np.flatnonzero(mask)
+    spots = marking_positions(opponents[marked_ids], p.mark_distance)  # row by row: a subset is exact
+    marks = {int(i): spot for i, spot in zip(marked_ids.tolist(), spots)}
     replaceable = np.array([r not in keep for r in roles], dtype=bool)
     selection = select_roles(formation, replaceable, marks, previous, p.reselect_gain)
     targets = formation.copy()
