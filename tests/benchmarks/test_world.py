@@ -43,7 +43,7 @@ def test_teams_and_stage_table(monkeypatch, capsys):
     assert [r["benchmark"] for r in lines] == ["world", "world_agent_stages"]
     assert lines[0]["teams"] == {"L": "villa", "R": "posture"} and lines[0]["players"] == 2
     villa = lines[1]["us_per_agent_cycle"]["L"]
-    assert villa["agent"] > 0 and {"world_model", "particle_filter", "body", "walk_engine"} <= set(villa)
+    assert villa["agent"] > 0 and {"world_model", "particle_filter", "body", "walk_step"} <= set(villa)
     assert villa["world_model"] <= villa["agent"] * 1.05  # inclusive, within the agent's cycle
     assert "world_model" not in lines[1]["us_per_agent_cycle"]["R"]  # posture has none
 
