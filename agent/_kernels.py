@@ -259,3 +259,95 @@ def line_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.nda
     line_scores(b, q, m, k, reach, ratio2, out)
     for i in range(n):
         out[i] = -0.5 * out[i]
+
+
+# ---------------------------------------------------------------- world model (vision)
+# Products here repeat numpy's OpenBLAS on these shapes: a 3x3 matrix times a 3-vector is
+# fma(a2, v2, fma(a0, v0, a1 v1)) per row (dgemv); an (n >= 2, 3) by (3, 3) product is one
+# fused multiply-add chain from zero per entry (dgemm); numpy hands a single row to dgemv,
+# which sums (a0 b0 + a1 b1) + a2 b2 against a C-ordered matrix and fma(a2 b2, fma(a0 b0,
+# a1 b1)) against a transposed one.
+
+
+@intrinsic
+def _fma64(typingctx, a, b, c):
+    """a * b + c in float64 with one rounding (LLVM's fma intrinsic)."""
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        f64 = ir.DoubleType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [f64], ir.FunctionType(f64, [f64] * 3))
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+@njit
+def _mat3_vec(a: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """a (3, 3) @ v (3,) as numpy's dgemv forms it."""
+    out = np.empty(3)
+    for i in range(3):
+        out[i] = _fma64(a[i, 2], v[2], _fma64(a[i, 0], v[0], a[i, 1] * v[1]))
+    return out
+
+
+@njit
+def _rows_times(p: np.ndarray, m: np.ndarray, transpose: bool) -> np.ndarray:
+    """p (n, 3) @ m (3, 3), or @ m.T, as numpy forms it (see above)."""
+    n = p.shape[0]
+    out = np.empty((n, 3))
+    for i in range(n):
+        for j in range(3):
+            b0, b1, b2 = (m[j, 0], m[j, 1], m[j, 2]) if transpose else (m[0, j], m[1, j], m[2, j])
+            if n >= 2:
+                out[i, j] = _fma64(p[i, 2], b2, _fma64(p[i, 1], b1, _fma64(p[i, 0], b0, 0.0)))
+            elif transpose:
+                out[i, j] = _fma64(p[i, 2], b2, _fma64(p[i, 0], b0, p[i, 1] * b1))
+            else:
+                out[i, j] = (p[i, 0] * b0 + p[i, 1] * b1) + p[i, 2] * b2
+    return out
+
+
+@njit
+def camera_in_level(neck_yaw: float, head_pitch: float, level: np.ndarray, neck_z: float,
+                    pivot_z: float, camera_above_pivot: float) -> tuple[np.ndarray, np.ndarray]:
+    """`agent.perception.camera_in_level`: camera pose (R, p) in the level frame for the
+    head angles (rad) and the torso-to-level rotation `level` (3x3); the head chain's
+    offsets (m) as in `agent.geometry.camera_in_torso`."""
+    cy, sy = math.cos(neck_yaw), math.sin(neck_yaw)
+    cp, sp = math.cos(-head_pitch), math.sin(-head_pitch)
+    r_yaw = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+    r_pitch = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
+    r = _rows_times(r_yaw, r_pitch, False)
+    p = np.array([0.0, 0.0, neck_z]) + _mat3_vec(r_yaw, np.array([0.0, 0.0, pivot_z]) + _mat3_vec(
+        r_pitch, np.array([0.0, 0.0, camera_above_pivot])))
+    return _rows_times(level, r, False), _mat3_vec(level, p)
+
+
+@njit
+def _from_polar_into(a: np.ndarray, out: np.ndarray, start: int) -> int:
+    """Rows of a (k, 3) polar (distance, horizontal, vertical) as cartesian rows of out
+    from `start` (`agent.geometry.from_polar`); returns the next free row."""
+    for k in range(a.shape[0]):
+        d, h, v = a[k, 0], a[k, 1], a[k, 2]
+        c = d * math.cos(v)
+        row = out[start + k]
+        row[0], row[1], row[2] = c * math.cos(h), c * math.sin(h), d * math.sin(v)
+    return start + a.shape[0]
+
+
+@njit
+def polar_to_level(landmarks: np.ndarray, lines: np.ndarray, players: np.ndarray, ball: np.ndarray,
+                   rot: np.ndarray, pos: np.ndarray) -> np.ndarray:
+    """The rows of the polar (k, 3) arrays, stacked, in the level frame:
+    from_polar(...) @ rot.T + pos (m) for a camera at (rot, pos)."""
+    cart = np.empty((landmarks.shape[0] + lines.shape[0] + players.shape[0] + ball.shape[0], 3))
+    i = _from_polar_into(landmarks, cart, 0)
+    i = _from_polar_into(lines, cart, i)
+    i = _from_polar_into(players, cart, i)
+    _from_polar_into(ball, cart, i)
+    out = _rows_times(cart, rot, True)
+    for i in range(out.shape[0]):
+        for j in range(3):
+            out[i, j] += pos[j]
+    return out
