@@ -351,3 +351,103 @@ def polar_to_level(landmarks: np.ndarray, lines: np.ndarray, players: np.ndarray
         for j in range(3):
             out[i, j] += pos[j]
     return out
+
+
+@njit
+def place_robots(level: np.ndarray, ours: np.ndarray, unum: np.ndarray, part: np.ndarray, x: float, y: float,
+                 heading: float, torso_height: float, own_unum: int, team_size: int, n_parts: int, head: int,
+                 pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Other robots from their seen parts (`WorldModel._see_players`).
+
+    level (p, 3): the parts in the level frame (m); ours, unum, part (p,): whose part
+    and which (index into SEEN_PARTS). With the pose (x, y m, heading rad; team frame)
+    and the torso height (m), per robot seen (slot 0..team_size-1 ours by uniform number,
+    then theirs; this player and numbers out of range left out), in order of first
+    appearance: (slot, team-frame position (m): its head's, else the mean of its parts,
+    z at least 0; fallen: head below 0.25 m; heading (rad, nan if no pair of `pairs`
+    (left, right part) was seen): that of the first pair seen; the level-frame reading of
+    its first part)."""
+    n = level.shape[0]
+    c, s = math.cos(heading), math.sin(heading)
+    team = np.empty((n, 3))
+    for i in range(n):
+        px, py = level[i, 0], level[i, 1]
+        team[i, 0], team[i, 1] = x + c * px - s * py, y + s * px + c * py
+        team[i, 2] = torso_height + level[i, 2]
+    m = 2 * team_size
+    order = np.full(m, -1)  # slot -> its rank of first appearance
+    first = np.full((m, n_parts), -1)  # slot, part -> the part's first row
+    count = np.zeros(m, dtype=np.int64)
+    total = np.zeros((m, 3))
+    first_row = np.empty(m, dtype=np.int64)
+    seen = 0
+    for i in range(n):
+        u = unum[i]
+        if u < 1 or u > team_size or (ours[i] and u == own_unum):
+            continue
+        r = u - 1 if ours[i] else team_size + u - 1
+        if order[r] < 0:
+            order[r] = seen
+            first_row[seen] = i
+            seen += 1
+            total[r, 0], total[r, 1], total[r, 2] = team[i, 0], team[i, 1], team[i, 2]
+        else:
+            total[r, 0] += team[i, 0]
+            total[r, 1] += team[i, 1]
+            total[r, 2] += team[i, 2]
+        count[r] += 1
+        k = part[i]
+        if 0 <= k < n_parts and first[r, k] < 0:
+            first[r, k] = i
+    slots = np.empty(seen, dtype=np.int64)
+    pos = np.empty((seen, 3))
+    fallen = np.zeros(seen, dtype=np.bool_)
+    head_of = np.full(seen, np.nan)
+    vision = np.empty((seen, 3))
+    for r in range(m):
+        j = order[r]
+        if j < 0:
+            continue
+        slots[j] = r
+        h = first[r, head]
+        if h >= 0:
+            z = team[h, 2]
+            pos[j, 0], pos[j, 1], pos[j, 2] = team[h, 0], team[h, 1], z if z > 0.0 else 0.0
+            fallen[j] = z < 0.25
+        else:
+            k = count[r]
+            z = total[r, 2] / k
+            pos[j, 0], pos[j, 1], pos[j, 2] = total[r, 0] / k, total[r, 1] / k, z if z > 0.0 else 0.0
+        for q in range(pairs.shape[0]):
+            a, b = first[r, pairs[q, 0]], first[r, pairs[q, 1]]
+            if a >= 0 and b >= 0:
+                t = math.atan2(team[a, 1] - team[b, 1], team[a, 0] - team[b, 0]) - math.pi / 2
+                if math.isfinite(t):
+                    head_of[j] = (t + math.pi) % (2.0 * math.pi) - math.pi
+                break
+        i = first_row[j]
+        vision[j, 0], vision[j, 1], vision[j, 2] = level[i, 0], level[i, 1], level[i, 2]
+    return slots, pos, fallen, head_of, vision
+
+
+@njit
+def in_view(points: np.ndarray, x: float, y: float, heading: float, torso_height: float,
+            cam_pos: np.ndarray, cam_rot: np.ndarray, half_cone: float) -> np.ndarray:
+    """Which team-frame points (n, 3; m) lie within half_cone (rad) of a camera's axis,
+    both horizontally and vertically, in front of it: camera pose (cam_rot, cam_pos) in
+    the level frame of a torso at (x, y, heading) and torso_height (m)."""
+    n = points.shape[0]
+    c, s = math.cos(heading), math.sin(heading)
+    rel = np.empty((n, 3))
+    for i in range(n):
+        ex, ey = points[i, 0] - x, points[i, 1] - y
+        rel[i, 0] = c * ex + s * ey - cam_pos[0]
+        rel[i, 1] = -s * ex + c * ey - cam_pos[1]
+        rel[i, 2] = points[i, 2] - torso_height - cam_pos[2]
+    cam = _rows_times(rel, cam_rot, False)
+    out = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        hor = math.atan2(cam[i, 1], cam[i, 0])
+        ver = math.atan2(cam[i, 2], math.hypot(cam[i, 0], cam[i, 1]))
+        out[i] = abs(hor) < half_cone and abs(ver) < half_cone and cam[i, 0] > 0
+    return out

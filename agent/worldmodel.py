@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from agent import comm
+from agent import _kernels, comm
 from agent.ballfilter import BallFilter
 from agent.geometry import landmarks_in_team
 from agent.localization import LocalizationParams, ParticleFilter
@@ -40,7 +40,7 @@ HEARD_BALL_SIGMA = 0.4  # m, a teammate's ball report
 PLAYER_MEMORY = 4.0  # s a player sighting is reported on to teammates
 _PART = {n: i for i, n in enumerate(SEEN_PARTS)}
 _HEAD = _PART["head"]
-_HEADING_PAIRS = ((_PART["llowerarm"], _PART["rlowerarm"]), (_PART["lfoot"], _PART["rfoot"]))
+_HEADING_PAIRS = np.array([(_PART["llowerarm"], _PART["rlowerarm"]), (_PART["lfoot"], _PART["rfoot"])])
 _HALF_CONE = VIEW_CONE / 2 - math.radians(5.0)  # margin for "should have been seen"
 
 
@@ -117,10 +117,11 @@ class WorldModel:
         for u in range(1, TEAM_SIZE + 1):
             for ours in (True, False):
                 self.objects[player_key(ours, u)] = WorldObject(player_key(ours, u))
-        # Other robots' memories by percept key (100 for ours + uniform number).
-        self._robots = {(100 if ours else 0) + u: self.objects[player_key(ours, u)]
-                        for ours in (True, False) for u in range(1, TEAM_SIZE + 1)
-                        if not (ours and u == unum)}
+        # Other robots' memories by `_kernels.place_robots` slot: ours by uniform number, then
+        # theirs (None for this player).
+        self._robot_slots = [None if ours and u == unum else self.objects[player_key(ours, u)]
+                             for ours in (True, False) for u in range(1, TEAM_SIZE + 1)]
+        self._movable = [o for n, o in self.objects.items() if n not in self.landmark_positions]
         self.last_fixed_seen = -math.inf  # s, last vision frame with a landmark or line
         self.torso_height = 0.36  # m, re-estimated from landmarks and lines
         self.observation: Observation | None = None
@@ -241,53 +242,27 @@ class WorldModel:
         self._invalidate(obs)
 
     def _see_players(self, obs: Observation, t: float) -> None:
-        pos = self.to_field(obs.players)
-        # Group the seen parts by robot in one pass over plain ints (no mask per robot);
-        # within a robot its parts keep their order in the percept.
-        groups: dict[int, list[int]] = {}
-        for i, (ours, unum) in enumerate(zip(obs.player_ours.tolist(), obs.player_unum.tolist())):
-            groups.setdefault(int(ours) * 100 + unum, []).append(i)
-        parts_all = obs.player_part.tolist()
-        rows = pos.tolist()  # plain floats: the same values, without numpy scalar overhead
-        robots = self._robots
-        for key, idx in groups.items():
-            o = robots.get(key)  # None: an out-of-range number, or this player itself
-            if o is None:
-                continue
-            first: dict[int, int] = {}  # part -> its first row
-            for i in idx:
-                first.setdefault(parts_all[i], i)
-            head = first.get(_HEAD)
-            if head is not None:
-                x, y, z = rows[head]
-                o.position = np.array([x, y, max(0.0, z)])
-                o.fallen = z < 0.25
-            else:
-                o.position = pos[idx].mean(axis=0)
-                o.position[2] = max(0.0, o.position[2])
-                o.fallen = False
-            for left, right in _HEADING_PAIRS:
-                if left in first and right in first:
-                    lp, rp = rows[first[left]], rows[first[right]]
-                    heading = math.atan2(lp[1] - rp[1], lp[0] - rp[0]) - math.pi / 2
-                    if math.isfinite(heading):
-                        o.heading = float(wrap(heading))
-                    break
-            o.vision = obs.players[idx[0]].copy()
+        x, y, h = (float(v) for v in self.pose)
+        slots, pos, fallen, heading, vision = _kernels.place_robots(
+            obs.players, obs.player_ours, obs.player_unum, obs.player_part, x, y, h, self.torso_height,
+            self.unum, TEAM_SIZE, len(SEEN_PARTS), _HEAD, _HEADING_PAIRS)
+        robots = self._robot_slots
+        for r, p, down, hd, v in zip(slots.tolist(), pos, fallen.tolist(), heading.tolist(), vision):
+            o = robots[r]
+            o.position, o.fallen, o.vision = p, down, v
+            if hd == hd:  # not nan: a pair of parts gave the heading
+                o.heading = hd
             o.last_seen, o.currently_seen, o.valid = t, True, True
 
     def _invalidate(self, obs: Observation) -> None:
         """Mark unseen ball and robots whose remembered place is in view as not valid."""
-        movable = [o for n, o in self.objects.items() if n not in self.landmark_positions
-                   and o.valid and not o.currently_seen and o.known]
+        movable = [o for o in self._movable if o.valid and not o.currently_seen and o.known]
         if not movable:
             return
-        pts = self.to_level(np.array([o.position for o in movable]))
-        cam = (pts - obs.camera_position) @ obs.camera_rotation  # camera frame
-        hor = np.arctan2(cam[:, 1], cam[:, 0])
-        ver = np.arctan2(cam[:, 2], np.hypot(cam[:, 0], cam[:, 1]))
-        inside = (np.abs(hor) < _HALF_CONE) & (np.abs(ver) < _HALF_CONE) & (cam[:, 0] > 0)
-        for o, hidden in zip(movable, inside):
+        x, y, h = (float(v) for v in self.pose)
+        inside = _kernels.in_view(np.array([o.position for o in movable]), x, y, h, self.torso_height,
+                                  obs.camera_position, obs.camera_rotation, _HALF_CONE)
+        for o, hidden in zip(movable, inside.tolist()):
             if hidden:
                 o.valid = False
 
