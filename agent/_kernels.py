@@ -298,14 +298,25 @@ def _rows_times(p: np.ndarray, m: np.ndarray, transpose: bool) -> np.ndarray:
     out = np.empty((n, 3))
     for i in range(n):
         for j in range(3):
-            b0, b1, b2 = (m[j, 0], m[j, 1], m[j, 2]) if transpose else (m[0, j], m[1, j], m[2, j])
-            if n >= 2:
-                out[i, j] = _fma64(p[i, 2], b2, _fma64(p[i, 1], b1, _fma64(p[i, 0], b0, 0.0)))
-            elif transpose:
-                out[i, j] = _fma64(p[i, 2], b2, _fma64(p[i, 0], b0, p[i, 1] * b1))
-            else:
-                out[i, j] = (p[i, 0] * b0 + p[i, 1] * b1) + p[i, 2] * b2
+            out[i, j] = _entry(p, i, m, j, transpose, n)
     return out
+
+
+@njit
+def _entry(p: np.ndarray, i: int, m: np.ndarray, j: int, transpose: bool, n: int) -> float:
+    """Entry (i, j) of p (n, 3) @ m (3, 3), or @ m.T, as numpy forms it (see above)."""
+    b0, b1, b2 = (m[j, 0], m[j, 1], m[j, 2]) if transpose else (m[0, j], m[1, j], m[2, j])
+    if n >= 2:
+        return _fma64(p[i, 2], b2, _fma64(p[i, 1], b1, _fma64(p[i, 0], b0, 0.0)))
+    if transpose:
+        return _fma64(p[i, 2], b2, _fma64(p[i, 0], b0, p[i, 1] * b1))
+    return (p[i, 0] * b0 + p[i, 1] * b1) + p[i, 2] * b2
+
+
+@njit
+def _row_times(p: np.ndarray, m: np.ndarray, n: int) -> tuple[float, float, float]:
+    """The one row of p (1, 3) @ m (3, 3), as numpy forms it for a product of n rows."""
+    return _entry(p, 0, m, 0, False, n), _entry(p, 0, m, 1, False, n), _entry(p, 0, m, 2, False, n)
 
 
 @njit
@@ -356,17 +367,17 @@ def polar_to_level(landmarks: np.ndarray, lines: np.ndarray, players: np.ndarray
 @njit
 def place_robots(level: np.ndarray, ours: np.ndarray, unum: np.ndarray, part: np.ndarray, x: float, y: float,
                  heading: float, torso_height: float, own_unum: int, team_size: int, n_parts: int, head: int,
-                 pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                 pairs: np.ndarray) -> np.ndarray:
     """Other robots from their seen parts (`WorldModel._see_players`).
 
     level (p, 3): the parts in the level frame (m); ours, unum, part (p,): whose part
     and which (index into SEEN_PARTS). With the pose (x, y m, heading rad; team frame)
-    and the torso height (m), per robot seen (slot 0..team_size-1 ours by uniform number,
-    then theirs; this player and numbers out of range left out), in order of first
-    appearance: (slot, team-frame position (m): its head's, else the mean of its parts,
-    z at least 0; fallen: head below 0.25 m; heading (rad, nan if no pair of `pairs`
-    (left, right part) was seen): that of the first pair seen; the level-frame reading of
-    its first part)."""
+    and the torso height (m), one row per robot seen, in order of first appearance (this
+    player and numbers out of range left out): team-frame position (m: its head's, else
+    the mean of its parts; z at least 0), the level-frame reading of its first part (m),
+    heading (rad, of the first pair of parts `pairs` (left, right) seen; nan if none),
+    fallen (1.0: head below 0.25 m, else 0.0), slot (0..team_size-1 ours by uniform
+    number, then theirs)."""
     n = level.shape[0]
     c, s = math.cos(heading), math.sin(heading)
     team = np.empty((n, 3))
@@ -399,55 +410,81 @@ def place_robots(level: np.ndarray, ours: np.ndarray, unum: np.ndarray, part: np
         k = part[i]
         if 0 <= k < n_parts and first[r, k] < 0:
             first[r, k] = i
-    slots = np.empty(seen, dtype=np.int64)
-    pos = np.empty((seen, 3))
-    fallen = np.zeros(seen, dtype=np.bool_)
-    head_of = np.full(seen, np.nan)
-    vision = np.empty((seen, 3))
+    out = np.empty((seen, 9))
     for r in range(m):
         j = order[r]
         if j < 0:
             continue
-        slots[j] = r
+        row = out[j]
         h = first[r, head]
         if h >= 0:
             z = team[h, 2]
-            pos[j, 0], pos[j, 1], pos[j, 2] = team[h, 0], team[h, 1], z if z > 0.0 else 0.0
-            fallen[j] = z < 0.25
+            row[0], row[1], row[2] = team[h, 0], team[h, 1], z if z > 0.0 else 0.0
+            row[7] = 1.0 if z < 0.25 else 0.0
         else:
             k = count[r]
             z = total[r, 2] / k
-            pos[j, 0], pos[j, 1], pos[j, 2] = total[r, 0] / k, total[r, 1] / k, z if z > 0.0 else 0.0
+            row[0], row[1], row[2] = total[r, 0] / k, total[r, 1] / k, z if z > 0.0 else 0.0
+            row[7] = 0.0
+        i = first_row[j]
+        row[3], row[4], row[5] = level[i, 0], level[i, 1], level[i, 2]
+        row[6] = math.nan
         for q in range(pairs.shape[0]):
             a, b = first[r, pairs[q, 0]], first[r, pairs[q, 1]]
             if a >= 0 and b >= 0:
                 t = math.atan2(team[a, 1] - team[b, 1], team[a, 0] - team[b, 0]) - math.pi / 2
                 if math.isfinite(t):
-                    head_of[j] = (t + math.pi) % (2.0 * math.pi) - math.pi
+                    row[6] = (t + math.pi) % (2.0 * math.pi) - math.pi
                 break
-        i = first_row[j]
-        vision[j, 0], vision[j, 1], vision[j, 2] = level[i, 0], level[i, 1], level[i, 2]
-    return slots, pos, fallen, head_of, vision
+        row[8] = r
+    return out
 
 
 @njit
 def in_view(points: np.ndarray, x: float, y: float, heading: float, torso_height: float,
-            cam_pos: np.ndarray, cam_rot: np.ndarray, half_cone: float) -> np.ndarray:
-    """Which team-frame points (n, 3; m) lie within half_cone (rad) of a camera's axis,
-    both horizontally and vertically, in front of it: camera pose (cam_rot, cam_pos) in
-    the level frame of a torso at (x, y, heading) and torso_height (m)."""
+            cam_pos: np.ndarray, cam_rot: np.ndarray, half_cone: float) -> int:
+    """Which team-frame points (n <= 63, 3; m) lie within half_cone (rad) of a camera's
+    axis, both horizontally and vertically, in front of it, as bits (1 << i): camera
+    pose (cam_rot, cam_pos) in the level frame of a torso at (x, y, heading) and
+    torso_height (m)."""
     n = points.shape[0]
     c, s = math.cos(heading), math.sin(heading)
-    rel = np.empty((n, 3))
+    bits = 0
+    rel = np.empty((1, 3))
     for i in range(n):
         ex, ey = points[i, 0] - x, points[i, 1] - y
-        rel[i, 0] = c * ex + s * ey - cam_pos[0]
-        rel[i, 1] = -s * ex + c * ey - cam_pos[1]
-        rel[i, 2] = points[i, 2] - torso_height - cam_pos[2]
-    cam = _rows_times(rel, cam_rot, False)
-    out = np.empty(n, dtype=np.bool_)
+        rel[0, 0] = c * ex + s * ey - cam_pos[0]
+        rel[0, 1] = -s * ex + c * ey - cam_pos[1]
+        rel[0, 2] = points[i, 2] - torso_height - cam_pos[2]
+        cx, cy, cz = _row_times(rel, cam_rot, n)
+        hor = math.atan2(cy, cx)
+        ver = math.atan2(cz, math.hypot(cx, cy))
+        if abs(hor) < half_cone and abs(ver) < half_cone and cx > 0:
+            bits |= 1 << i
+    return bits
+
+
+@njit
+def torso_height_sample(landmark_z: np.ndarray, landmarks: np.ndarray, lines: np.ndarray) -> float:
+    """The median (np.median's value) of the torso heights (m) implied by landmarks of
+    known height landmark_z (k,; nan: unknown) seen at level-frame landmarks (k, 3),
+    and by the field lines' end points (n, 2, 3) on the ground; nan without any."""
+    k, n = landmarks.shape[0], lines.shape[0]
+    z = np.empty(k + 2 * n)
+    m = 0
+    for i in range(k):
+        v = landmark_z[i] - landmarks[i, 2]
+        if math.isfinite(v):
+            z[m] = v
+            m += 1
     for i in range(n):
-        hor = math.atan2(cam[i, 1], cam[i, 0])
-        ver = math.atan2(cam[i, 2], math.hypot(cam[i, 0], cam[i, 1]))
-        out[i] = abs(hor) < half_cone and abs(ver) < half_cone and cam[i, 0] > 0
-    return out
+        for e in range(2):
+            v = -lines[i, e, 2]
+            if math.isfinite(v):
+                z[m] = v
+                m += 1
+    if m == 0:
+        return math.nan
+    s = np.sort(z[:m])
+    h = m // 2
+    return s[h] if m % 2 else (s[h - 1] + s[h]) / 2.0

@@ -49,15 +49,6 @@ def player_key(ours: bool, unum: int) -> str:
     return f"{'T' if ours else 'O'}{unum}"
 
 
-def _median(z: np.ndarray) -> float:
-    """np.median of finite values, bit for bit (the middle one, or the two middle ones'
-    sum halved), without its generic machinery."""
-    s = np.sort(z)
-    n = len(s)
-    h = n // 2
-    return float(s[h]) if n % 2 else float((s[h - 1] + s[h]) / 2.0)
-
-
 _decoded: dict[tuple[str, float], comm.TeamMessage | None] = {}
 
 
@@ -110,6 +101,7 @@ class WorldModel:
         self.localizer = ParticleFilter(side, seed=seed, params=params)
         self.ball_filter = BallFilter()
         self.landmark_positions = landmarks_in_team(side)
+        self._landmark_z = {n: float(p[2]) for n, p in self.landmark_positions.items()}
         self.objects: dict[str, WorldObject] = {}
         for name, pos in self.landmark_positions.items():
             self.objects[name] = WorldObject(name, position=pos.copy(), valid=True)
@@ -117,6 +109,9 @@ class WorldModel:
         for u in range(1, TEAM_SIZE + 1):
             for ours in (True, False):
                 self.objects[player_key(ours, u)] = WorldObject(player_key(ours, u))
+        # The players' memories by uniform number (index 0 unused).
+        self._mates = [None] + [self.objects[player_key(True, u)] for u in range(1, TEAM_SIZE + 1)]
+        self._opponents = [None] + [self.objects[player_key(False, u)] for u in range(1, TEAM_SIZE + 1)]
         # Other robots' memories by `_kernels.place_robots` slot: ours by uniform number, then
         # theirs (None for this player).
         self._robot_slots = [None if ours and u == unum else self.objects[player_key(ours, u)]
@@ -154,10 +149,10 @@ class WorldModel:
         return self.objects["ball"]
 
     def teammate(self, unum: int) -> WorldObject:
-        return self.objects[player_key(True, unum)]
+        return self._mates[unum] if 0 < unum <= TEAM_SIZE else self.objects[player_key(True, unum)]
 
     def opponent(self, unum: int) -> WorldObject:
-        return self.objects[player_key(False, unum)]
+        return self._opponents[unum] if 0 < unum <= TEAM_SIZE else self.objects[player_key(False, unum)]
 
     def to_field(self, level_xyz: np.ndarray) -> np.ndarray:
         """Level-frame points (..., 3) relative to the torso -> team frame (m)."""
@@ -208,9 +203,9 @@ class WorldModel:
             if not self.tilt.fallen:  # a falling or lying camera misleads more than it tells
                 self._see(percept)
         self._hear(percept)
-        b = self.ball
         if self.ball_filter.initialized:
-            b.position = np.array([*self.ball_filter.position, b.position[2] if b.known else 0.042])
+            b, x = self.ball, self.ball_filter.x
+            b.position = np.array((x[0], x[1], b.position[2] if b.known else 0.042))
 
     def _see(self, percept: Percept) -> None:
         obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
@@ -219,12 +214,11 @@ class WorldModel:
         if self.localizer.update(obs.landmark_names, obs.landmarks, obs.lines):
             self.last_fixed_seen = percept.time
         # Torso height from landmarks and lines of known height.
-        known_z = [self.landmark_positions[n][2] if n in self.landmark_positions else np.nan
-                   for n in obs.landmark_names]
-        z = np.concatenate([np.array(known_z) - obs.landmarks[:, 2], -obs.lines[:, :, 2].ravel()])
-        z = z[np.isfinite(z)]
-        if len(z):
-            self.torso_height += 0.2 * (_median(z) - self.torso_height)
+        lz = self._landmark_z
+        h = _kernels.torso_height_sample(np.array([lz.get(n, math.nan) for n in obs.landmark_names]),
+                                         obs.landmarks, obs.lines)
+        if h == h:  # not nan
+            self.torso_height += 0.2 * (h - self.torso_height)
         t = percept.time
         v = percept.vision
         for name, pol in zip(v.landmark_names, v.landmarks):
@@ -242,14 +236,14 @@ class WorldModel:
         self._invalidate(obs)
 
     def _see_players(self, obs: Observation, t: float) -> None:
-        x, y, h = (float(v) for v in self.pose)
-        slots, pos, fallen, heading, vision = _kernels.place_robots(
-            obs.players, obs.player_ours, obs.player_unum, obs.player_part, x, y, h, self.torso_height,
-            self.unum, TEAM_SIZE, len(SEEN_PARTS), _HEAD, _HEADING_PAIRS)
+        x, y, h = self.pose.tolist()
+        seen = _kernels.place_robots(obs.players, obs.player_ours, obs.player_unum, obs.player_part, x, y, h,
+                                     self.torso_height, self.unum, TEAM_SIZE, len(SEEN_PARTS), _HEAD,
+                                     _HEADING_PAIRS)
         robots = self._robot_slots
-        for r, p, down, hd, v in zip(slots.tolist(), pos, fallen.tolist(), heading.tolist(), vision):
-            o = robots[r]
-            o.position, o.fallen, o.vision = p, down, v
+        for p, v, (hd, down, r) in zip(seen[:, 0:3], seen[:, 3:6], seen[:, 6:9].tolist()):
+            o = robots[int(r)]
+            o.position, o.vision, o.fallen = p, v, down > 0.0
             if hd == hd:  # not nan: a pair of parts gave the heading
                 o.heading = hd
             o.last_seen, o.currently_seen, o.valid = t, True, True
@@ -259,11 +253,11 @@ class WorldModel:
         movable = [o for o in self._movable if o.valid and not o.currently_seen and o.known]
         if not movable:
             return
-        x, y, h = (float(v) for v in self.pose)
+        x, y, h = self.pose.tolist()
         inside = _kernels.in_view(np.array([o.position for o in movable]), x, y, h, self.torso_height,
                                   obs.camera_position, obs.camera_rotation, _HALF_CONE)
-        for o, hidden in zip(movable, inside.tolist()):
-            if hidden:
+        for i, o in enumerate(movable):
+            if inside >> i & 1:
                 o.valid = False
 
     # ---------------------------------------------------------- communication
