@@ -348,19 +348,33 @@ def _from_polar_into(a: np.ndarray, out: np.ndarray, start: int) -> int:
 
 
 @njit
-def polar_to_level(landmarks: np.ndarray, lines: np.ndarray, players: np.ndarray, ball: np.ndarray,
-                   rot: np.ndarray, pos: np.ndarray) -> np.ndarray:
-    """The rows of the polar (k, 3) arrays, stacked, in the level frame:
-    from_polar(...) @ rot.T + pos (m) for a camera at (rot, pos)."""
-    cart = np.empty((landmarks.shape[0] + lines.shape[0] + players.shape[0] + ball.shape[0], 3))
+def observe_frame(landmarks: np.ndarray, lines: np.ndarray, players: np.ndarray, ball: np.ndarray,
+                  neck_yaw: float, head_pitch: float, level: np.ndarray, roll: float, pitch: float,
+                  neck_z: float, pivot_z: float, camera_above_pivot: float) -> np.ndarray:
+    """One vision frame into the level frame (`agent.perception.observe`): the polar
+    (k, 3) rows of landmarks, line end points, player parts and ball (0 or 1 row)
+    stacked, as from_polar(...) @ R.T + p (m) for the camera pose (R, p) of
+    `camera_in_level`. level: the torso-to-level rotation (3x3), or (0, 0) for the one
+    of a torso tilted by roll and pitch (rad; `skills.imu.TiltEstimator.level`).
+    Returns one (4 + k, 3) block: R, p, then the points."""
+    if level.shape[0] == 0:
+        cp, sp = math.cos(pitch), math.sin(pitch)
+        cr, sr = math.cos(roll), math.sin(roll)
+        level = _rows_times(np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]]),
+                            np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]]), False)
+    rot, pos = camera_in_level(neck_yaw, head_pitch, level, neck_z, pivot_z, camera_above_pivot)
+    n = landmarks.shape[0] + lines.shape[0] + players.shape[0] + ball.shape[0]
+    cart = np.empty((n, 3))
     i = _from_polar_into(landmarks, cart, 0)
     i = _from_polar_into(lines, cart, i)
     i = _from_polar_into(players, cart, i)
     _from_polar_into(ball, cart, i)
-    out = _rows_times(cart, rot, True)
-    for i in range(out.shape[0]):
+    out = np.empty((4 + n, 3))
+    out[:3] = rot
+    out[3] = pos
+    for i in range(n):
         for j in range(3):
-            out[i, j] += pos[j]
+            out[4 + i, j] = _entry(cart, i, rot, j, True, n) + pos[j]
     return out
 
 

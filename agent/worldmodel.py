@@ -209,7 +209,7 @@ class WorldModel:
 
     def _see(self, percept: Percept) -> None:
         obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
-                      self.tilt.level)
+                      tilt=(self.tilt.roll, self.tilt.pitch))
         self.observation = obs
         if self.localizer.update(obs.landmark_names, obs.landmarks, obs.lines):
             self.last_fixed_seen = percept.time
@@ -226,8 +226,11 @@ class WorldModel:
             if o is not None:
                 o.vision, o.last_seen, o.currently_seen = pol, t, True
         if obs.ball is not None:
-            pos = self.to_field(obs.ball)
-            dist = float(np.hypot(obs.ball[0], obs.ball[1]))
+            bx, by, bz = obs.ball.tolist()
+            x, y, h = self.pose.tolist()
+            c, s = math.cos(h), math.sin(h)  # to_field's arithmetic on floats
+            pos = np.array((x + c * bx - s * by, y + s * bx + c * by, self.torso_height + bz))
+            dist = float(np.hypot(bx, by))
             self.ball_filter.update(pos[:2], BALL_SIGMA_NEAR + BALL_SIGMA_PER_M * dist, t)
             b = self.ball
             b.position, b.vision, b.last_seen, b.currently_seen, b.valid = pos, v.ball, t, True, True

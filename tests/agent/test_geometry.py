@@ -106,7 +106,6 @@ def test_observe_repeats_the_numpy_chain_bit_for_bit(n_players):
     """observe's compiled conversion gives the floats of camera_in_torso, the level
     rotation and from_polar(...) @ R.T + p in numpy (one-row products included)."""
     from models.messages import Vision
-    from skills.frames import rot_x, rot_y
 
     rng = np.random.default_rng(n_players)
     for k in range(20):
@@ -118,8 +117,13 @@ def test_observe_repeats_the_numpy_chain_bit_for_bit(n_players):
                    player_unum=rng.integers(1, 12, n_players), player_part=rng.integers(0, 5, n_players),
                    players=polar(n_players))
         yaw, pitch = rng.uniform(-2, 2), rng.uniform(-0.7, 0.7)
-        level = rot_y(rng.normal(0, 0.1)) @ rot_x(rng.normal(0, 0.1))
+        tilt = TiltEstimator()
+        tilt.roll, tilt.pitch = rng.normal(0, 0.1, 2).tolist()
+        level = tilt.level
         obs = observe(v, 1.0, yaw, pitch, level)
+        by_tilt = observe(v, 1.0, yaw, pitch, tilt=(tilt.roll, tilt.pitch))
+        for f in ("landmarks", "lines", "players", "camera_rotation", "camera_position"):
+            assert np.array_equal(getattr(obs, f), getattr(by_tilt, f))
         r, p = camera_in_torso(yaw, pitch)
         rot, pos = level @ r, level @ p
         parts = [v.landmarks.reshape(-1, 3), v.lines.reshape(-1, 3), v.players.reshape(-1, 3)]
