@@ -204,8 +204,9 @@ class WorldModel:
                 self._see(percept)
         self._hear(percept)
         if self.ball_filter.initialized:
-            b, x = self.ball, self.ball_filter.x
-            b.position = np.array((x[0], x[1], b.position[2] if b.known else 0.042))
+            b = self.ball
+            x, y = self.ball_filter.x[:2].tolist()
+            b.position = np.array((x, y, b.position[2] if b.known else 0.042))
 
     def _see(self, percept: Percept) -> None:
         obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
@@ -268,12 +269,13 @@ class WorldModel:
     def _hear(self, percept: Percept) -> None:
         self.heard = []
         for h in percept.heard:
-            msg = _decode_heard(h)
+            msg = _decode_heard(h) if h.team == "ours" else None
             if msg is None or msg.unum == self.unum:
                 continue
             self.heard.append(msg)
             t = msg.time
             mate = self.teammate(msg.unum)
+            ball = self.ball
             if not msg.not_localized and not mate.currently_seen:
                 mate.position = np.array([msg.x, msg.y, 0.0])
                 mate.heading, mate.valid = msg.heading, True
@@ -283,11 +285,10 @@ class WorldModel:
                 self.teammate_lost[msg.unum] = t
             else:
                 self.teammate_lost.pop(msg.unum, None)
-            if msg.ball is not None and not self.ball.currently_seen and (
-                    percept.time - self.ball.last_seen > 0.5):
+            if msg.ball is not None and not ball.currently_seen and percept.time - ball.last_seen > 0.5:
                 self.ball_filter.update(np.array(msg.ball), HEARD_BALL_SIGMA, percept.time)
-                self.ball.valid = True
-                self.ball.last_heard = t
+                ball.valid = True
+                ball.last_heard = t
             for r in msg.teammates:
                 if r.unum == self.unum:
                     if self.not_localized:
