@@ -178,8 +178,8 @@ class WorldModel:
         """(bearing rad in the torso's yaw, ground distance m) of the ball estimate, if any."""
         if not self.ball_filter.initialized:
             return None
-        bx, by = self.ball_filter.position
-        x, y, t = self.pose
+        bx, by = self.ball_filter.x[:2].tolist()
+        x, y, t = self.pose.tolist()
         return float(wrap(math.atan2(by - y, bx - x) - t)), math.hypot(bx - x, by - y)
 
     # ----------------------------------------------------------------- update
