@@ -479,10 +479,19 @@ def in_view(points: np.ndarray, x: float, y: float, heading: float, torso_height
 
 
 @njit
-def torso_height_sample(landmark_z: np.ndarray, landmarks: np.ndarray, lines: np.ndarray) -> float:
-    """The median (np.median's value) of the torso heights (m) implied by landmarks of
-    known height landmark_z (k,; nan: unknown) seen at level-frame landmarks (k, 3),
-    and by the field lines' end points (n, 2, 3) on the ground; nan without any."""
+def place_seen(landmark_z: np.ndarray, landmarks: np.ndarray, lines: np.ndarray, ball: np.ndarray,
+               players: np.ndarray, ours: np.ndarray, unum: np.ndarray, part: np.ndarray, x: float, y: float,
+               heading: float, torso_height: float, own_unum: int, team_size: int, n_parts: int, head: int,
+               pairs: np.ndarray) -> np.ndarray:
+    """A vision frame's level-frame objects placed on the field (`WorldModel._see`) from
+    the pose (x, y m, heading rad; team frame) and the torso height (m).
+
+    The torso height first moves 20 % toward the median (np.median's value) of the
+    heights implied by landmarks of known height landmark_z (k,; nan: unknown) seen at
+    landmarks (k, 3) and by the field lines' end points (n, 2, 3) on the ground. Then the
+    ball (0 or 1 row) and the robots' parts (see `place_robots`) go to the team frame.
+    Returns (1 + robots, 9): row 0 the new torso height, the ball's team-frame position
+    and its ground distance (m; nan without a ball), then one row per robot."""
     k, n = landmarks.shape[0], lines.shape[0]
     z = np.empty(k + 2 * n)
     m = 0
@@ -497,8 +506,19 @@ def torso_height_sample(landmark_z: np.ndarray, landmarks: np.ndarray, lines: np
             if math.isfinite(v):
                 z[m] = v
                 m += 1
-    if m == 0:
-        return math.nan
-    s = np.sort(z[:m])
-    h = m // 2
-    return s[h] if m % 2 else (s[h - 1] + s[h]) / 2.0
+    if m:
+        srt = np.sort(z[:m])
+        h = m // 2
+        torso_height += 0.2 * ((srt[h] if m % 2 else (srt[h - 1] + srt[h]) / 2.0) - torso_height)
+    robots = place_robots(players, ours, unum, part, x, y, heading, torso_height, own_unum, team_size,
+                          n_parts, head, pairs)
+    out = np.full((1 + robots.shape[0], 9), math.nan)
+    out[0, 0] = torso_height
+    if ball.shape[0]:
+        c, s = math.cos(heading), math.sin(heading)
+        bx, by = ball[0, 0], ball[0, 1]
+        out[0, 1], out[0, 2] = x + c * bx - s * by, y + s * bx + c * by
+        out[0, 3] = torso_height + ball[0, 2]
+        out[0, 4] = math.hypot(bx, by)
+    out[1:] = robots
+    return out

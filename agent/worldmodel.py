@@ -42,6 +42,7 @@ _PART = {n: i for i, n in enumerate(SEEN_PARTS)}
 _HEAD = _PART["head"]
 _HEADING_PAIRS = np.array([(_PART["llowerarm"], _PART["rlowerarm"]), (_PART["lfoot"], _PART["rfoot"])])
 _HALF_CONE = VIEW_CONE / 2 - math.radians(5.0)  # margin for "should have been seen"
+_NO_BALL = np.empty((0, 3))
 
 
 def player_key(ours: bool, unum: int) -> str:
@@ -102,6 +103,7 @@ class WorldModel:
         self.ball_filter = BallFilter()
         self.landmark_positions = landmarks_in_team(side)
         self._landmark_z = {n: float(p[2]) for n, p in self.landmark_positions.items()}
+        self._heights: dict[tuple[str, ...], np.ndarray] = {}
         self.objects: dict[str, WorldObject] = {}
         for name, pos in self.landmark_positions.items():
             self.objects[name] = WorldObject(name, position=pos.copy(), valid=True)
@@ -214,12 +216,15 @@ class WorldModel:
         self.observation = obs
         if self.localizer.update(obs.landmark_names, obs.landmarks, obs.lines):
             self.last_fixed_seen = percept.time
-        # Torso height from landmarks and lines of known height.
-        lz = self._landmark_z
-        h = _kernels.torso_height_sample(np.array([lz.get(n, math.nan) for n in obs.landmark_names]),
-                                         obs.landmarks, obs.lines)
-        if h == h:  # not nan
-            self.torso_height += 0.2 * (h - self.torso_height)
+        # Torso height from landmarks and lines of known height, then ball and robots placed
+        # with it, in one kernel.
+        x, y, h = self.pose.tolist()
+        seen = _kernels.place_seen(
+            self._landmark_heights(obs.landmark_names), obs.landmarks, obs.lines,
+            _NO_BALL if obs.ball is None else obs.ball[None], obs.players, obs.player_ours, obs.player_unum,
+            obs.player_part, x, y, h, self.torso_height, self.unum, TEAM_SIZE, len(SEEN_PARTS), _HEAD,
+            _HEADING_PAIRS)
+        self.torso_height, *_, dist = seen[0, :5].tolist()
         t = percept.time
         v = percept.vision
         for name, pol in zip(v.landmark_names, v.landmarks):
@@ -227,23 +232,25 @@ class WorldModel:
             if o is not None:
                 o.vision, o.last_seen, o.currently_seen = pol, t, True
         if obs.ball is not None:
-            bx, by, bz = obs.ball.tolist()
-            x, y, h = self.pose.tolist()
-            c, s = math.cos(h), math.sin(h)  # to_field's arithmetic on floats
-            pos = np.array((x + c * bx - s * by, y + s * bx + c * by, self.torso_height + bz))
-            dist = float(np.hypot(bx, by))
+            pos = seen[0, 1:4]
             self.ball_filter.update(pos[:2], BALL_SIGMA_NEAR + BALL_SIGMA_PER_M * dist, t)
             b = self.ball
             b.position, b.vision, b.last_seen, b.currently_seen, b.valid = pos, v.ball, t, True, True
         if len(obs.players):
-            self._see_players(obs, t)
+            self._see_players(seen[1:], t)
         self._invalidate(obs)
 
-    def _see_players(self, obs: Observation, t: float) -> None:
-        x, y, h = self.pose.tolist()
-        seen = _kernels.place_robots(obs.players, obs.player_ours, obs.player_unum, obs.player_part, x, y, h,
-                                     self.torso_height, self.unum, TEAM_SIZE, len(SEEN_PARTS), _HEAD,
-                                     _HEADING_PAIRS)
+    def _landmark_heights(self, names: tuple[str, ...]) -> np.ndarray:
+        """Heights (m) of the named landmarks (nan: not a landmark), one array per name set."""
+        z = self._heights.get(names)
+        if z is None:
+            if len(self._heights) > 256:
+                self._heights.clear()
+            z = self._heights[names] = np.array([self._landmark_z.get(n, math.nan) for n in names])
+        return z
+
+    def _see_players(self, seen: np.ndarray, t: float) -> None:
+        """Robots' memories from `_kernels.place_robots` rows (one per robot seen at time t)."""
         robots = self._robot_slots
         for p, v, (hd, down, r) in zip(seen[:, 0:3], seen[:, 3:6], seen[:, 6:9].tolist()):
             o = robots[int(r)]

@@ -204,7 +204,9 @@ def test_see_players_matches_the_per_robot_code():
     """Robots placed from their parts (head, else the parts' mean; heading from arms, else
     feet; this player and numbers out of range skipped) give the floats of the per-robot
     numpy code, bit for bit."""
+    from agent import _kernels
     from agent.perception import Observation
+    from agent.worldmodel import _HEAD, _HEADING_PAIRS
 
     rng = np.random.default_rng(4)
     for k in range(30):
@@ -218,7 +220,11 @@ def test_see_players_matches_the_per_robot_code():
                           players=rng.normal(size=(n, 3)) * (4.0, 4.0, 0.3),
                           camera_rotation=np.eye(3), camera_position=np.zeros(3))
         expected = _see_players_reference(wm, obs, 1.0)
-        wm._see_players(obs, 1.0)
+        x, y, h = wm.pose.tolist()
+        seen = _kernels.place_seen(np.zeros(0), obs.landmarks, obs.lines, np.zeros((0, 3)), obs.players,
+                                   obs.player_ours, obs.player_unum, obs.player_part, x, y, h,
+                                   wm.torso_height, wm.unum, 11, 5, _HEAD, _HEADING_PAIRS)
+        wm._see_players(seen[1:], 1.0)
         for key, o in wm.objects.items():
             if key in expected:
                 p, fallen, heading, vision = expected[key]
@@ -248,3 +254,24 @@ def test_in_view_matches_the_numpy_cone_test():
         inside = (np.abs(hor) < _HALF_CONE) & (np.abs(ver) < _HALF_CONE) & (cam[:, 0] > 0)
         bits = _kernels.in_view(pts, x, y, h, th, pos, rot, _HALF_CONE)
         assert [bool(bits >> i & 1) for i in range(n)] == inside.tolist()
+
+
+def test_torso_height_moves_toward_the_median_of_landmarks_and_lines():
+    """place_seen's torso height: 20 % toward np.median of the heights that landmarks of
+    known height (nan: unknown) and the lines' end points imply, bit for bit."""
+    from agent import _kernels
+    from agent.worldmodel import _HEAD, _HEADING_PAIRS
+
+    rng = np.random.default_rng(6)
+    for _ in range(200):
+        n_lm, n_ln = rng.integers(0, 6), rng.integers(0, 5)
+        known = np.where(rng.random(n_lm) < 0.8, rng.uniform(0, 0.8, n_lm), np.nan)
+        lm, ln = rng.normal(0, 0.3, (n_lm, 3)), rng.normal(-0.35, 0.05, (n_ln, 2, 3))
+        z = np.concatenate([known - lm[:, 2], -ln[:, :, 2].ravel()])
+        z = z[np.isfinite(z)]
+        th = 0.36
+        expected = th + 0.2 * (float(np.median(z)) - th) if len(z) else th
+        none = np.zeros(0, dtype=int)
+        seen = _kernels.place_seen(known, lm, ln, np.zeros((0, 3)), np.zeros((0, 3)), none.astype(bool), none,
+                                   none, 0.0, 0.0, 0.0, th, 1, 11, 5, _HEAD, _HEADING_PAIRS)
+        assert seen[0, 0] == expected
