@@ -259,3 +259,266 @@ def line_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.nda
     line_scores(b, q, m, k, reach, ratio2, out)
     for i in range(n):
         out[i] = -0.5 * out[i]
+
+
+# ---------------------------------------------------------------- world model (vision)
+# Products here repeat numpy's OpenBLAS on these shapes: a 3x3 matrix times a 3-vector is
+# fma(a2, v2, fma(a0, v0, a1 v1)) per row (dgemv); an (n >= 2, 3) by (3, 3) product is one
+# fused multiply-add chain from zero per entry (dgemm); numpy hands a single row to dgemv,
+# which sums (a0 b0 + a1 b1) + a2 b2 against a C-ordered matrix and fma(a2 b2, fma(a0 b0,
+# a1 b1)) against a transposed one.
+
+
+@intrinsic
+def _fma64(typingctx, a, b, c):
+    """a * b + c in float64 with one rounding (LLVM's fma intrinsic)."""
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        f64 = ir.DoubleType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [f64], ir.FunctionType(f64, [f64] * 3))
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+@njit
+def _mat3_vec(a: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """a (3, 3) @ v (3,) as numpy's dgemv forms it."""
+    out = np.empty(3)
+    for i in range(3):
+        out[i] = _fma64(a[i, 2], v[2], _fma64(a[i, 0], v[0], a[i, 1] * v[1]))
+    return out
+
+
+@njit
+def _rows_times(p: np.ndarray, m: np.ndarray, transpose: bool) -> np.ndarray:
+    """p (n, 3) @ m (3, 3), or @ m.T, as numpy forms it (see above)."""
+    n = p.shape[0]
+    out = np.empty((n, 3))
+    for i in range(n):
+        for j in range(3):
+            out[i, j] = _entry(p, i, m, j, transpose, n)
+    return out
+
+
+@njit
+def _entry(p: np.ndarray, i: int, m: np.ndarray, j: int, transpose: bool, n: int) -> float:
+    """Entry (i, j) of p (n, 3) @ m (3, 3), or @ m.T, as numpy forms it (see above)."""
+    b0, b1, b2 = (m[j, 0], m[j, 1], m[j, 2]) if transpose else (m[0, j], m[1, j], m[2, j])
+    if n >= 2:
+        return _fma64(p[i, 2], b2, _fma64(p[i, 1], b1, _fma64(p[i, 0], b0, 0.0)))
+    if transpose:
+        return _fma64(p[i, 2], b2, _fma64(p[i, 0], b0, p[i, 1] * b1))
+    return (p[i, 0] * b0 + p[i, 1] * b1) + p[i, 2] * b2
+
+
+@njit
+def _row_times(p: np.ndarray, m: np.ndarray, n: int) -> tuple[float, float, float]:
+    """The one row of p (1, 3) @ m (3, 3), as numpy forms it for a product of n rows."""
+    return _entry(p, 0, m, 0, False, n), _entry(p, 0, m, 1, False, n), _entry(p, 0, m, 2, False, n)
+
+
+@njit
+def camera_in_level(neck_yaw: float, head_pitch: float, level: np.ndarray, neck_z: float,
+                    pivot_z: float, camera_above_pivot: float) -> tuple[np.ndarray, np.ndarray]:
+    """`agent.perception.camera_in_level`: camera pose (R, p) in the level frame for the
+    head angles (rad) and the torso-to-level rotation `level` (3x3); the head chain's
+    offsets (m) as in `agent.geometry.camera_in_torso`."""
+    cy, sy = math.cos(neck_yaw), math.sin(neck_yaw)
+    cp, sp = math.cos(-head_pitch), math.sin(-head_pitch)
+    r_yaw = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+    r_pitch = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
+    r = _rows_times(r_yaw, r_pitch, False)
+    p = np.array([0.0, 0.0, neck_z]) + _mat3_vec(r_yaw, np.array([0.0, 0.0, pivot_z]) + _mat3_vec(
+        r_pitch, np.array([0.0, 0.0, camera_above_pivot])))
+    return _rows_times(level, r, False), _mat3_vec(level, p)
+
+
+@njit
+def _from_polar_into(a: np.ndarray, out: np.ndarray, start: int) -> int:
+    """Rows of a (k, 3) polar (distance, horizontal, vertical) as cartesian rows of out
+    from `start` (`agent.geometry.from_polar`); returns the next free row."""
+    for k in range(a.shape[0]):
+        d, h, v = a[k, 0], a[k, 1], a[k, 2]
+        c = d * math.cos(v)
+        row = out[start + k]
+        row[0], row[1], row[2] = c * math.cos(h), c * math.sin(h), d * math.sin(v)
+    return start + a.shape[0]
+
+
+@njit
+def observe_frame(landmarks: np.ndarray, lines: np.ndarray, players: np.ndarray, ball: np.ndarray,
+                  neck_yaw: float, head_pitch: float, level: np.ndarray, roll: float, pitch: float,
+                  neck_z: float, pivot_z: float, camera_above_pivot: float) -> np.ndarray:
+    """One vision frame into the level frame (`agent.perception.observe`): the polar
+    (k, 3) rows of landmarks, line end points, player parts and ball (0 or 1 row)
+    stacked, as from_polar(...) @ R.T + p (m) for the camera pose (R, p) of
+    `camera_in_level`. level: the torso-to-level rotation (3x3), or (0, 0) for the one
+    of a torso tilted by roll and pitch (rad; `skills.imu.TiltEstimator.level`).
+    Returns one (4 + k, 3) block: R, p, then the points."""
+    if level.shape[0] == 0:
+        cp, sp = math.cos(pitch), math.sin(pitch)
+        cr, sr = math.cos(roll), math.sin(roll)
+        level = _rows_times(np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]]),
+                            np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]]), False)
+    rot, pos = camera_in_level(neck_yaw, head_pitch, level, neck_z, pivot_z, camera_above_pivot)
+    n = landmarks.shape[0] + lines.shape[0] + players.shape[0] + ball.shape[0]
+    cart = np.empty((n, 3))
+    i = _from_polar_into(landmarks, cart, 0)
+    i = _from_polar_into(lines, cart, i)
+    i = _from_polar_into(players, cart, i)
+    _from_polar_into(ball, cart, i)
+    out = np.empty((4 + n, 3))
+    out[:3] = rot
+    out[3] = pos
+    for i in range(n):
+        for j in range(3):
+            out[4 + i, j] = _entry(cart, i, rot, j, True, n) + pos[j]
+    return out
+
+
+@njit
+def place_robots(level: np.ndarray, ours: np.ndarray, unum: np.ndarray, part: np.ndarray, x: float, y: float,
+                 heading: float, torso_height: float, own_unum: int, team_size: int, n_parts: int, head: int,
+                 pairs: np.ndarray) -> np.ndarray:
+    """Other robots from their seen parts (`WorldModel._see_players`).
+
+    level (p, 3): the parts in the level frame (m); ours, unum, part (p,): whose part
+    and which (index into SEEN_PARTS). With the pose (x, y m, heading rad; team frame)
+    and the torso height (m), one row per robot seen, in order of first appearance (this
+    player and numbers out of range left out): team-frame position (m: its head's, else
+    the mean of its parts; z at least 0), the level-frame reading of its first part (m),
+    heading (rad, of the first pair of parts `pairs` (left, right) seen; nan if none),
+    fallen (1.0: head below 0.25 m, else 0.0), slot (0..team_size-1 ours by uniform
+    number, then theirs)."""
+    n = level.shape[0]
+    c, s = math.cos(heading), math.sin(heading)
+    team = np.empty((n, 3))
+    for i in range(n):
+        px, py = level[i, 0], level[i, 1]
+        team[i, 0], team[i, 1] = x + c * px - s * py, y + s * px + c * py
+        team[i, 2] = torso_height + level[i, 2]
+    m = 2 * team_size
+    order = np.full(m, -1)  # slot -> its rank of first appearance
+    first = np.full((m, n_parts), -1)  # slot, part -> the part's first row
+    count = np.zeros(m, dtype=np.int64)
+    total = np.zeros((m, 3))
+    first_row = np.empty(m, dtype=np.int64)
+    seen = 0
+    for i in range(n):
+        u = unum[i]
+        if u < 1 or u > team_size or (ours[i] and u == own_unum):
+            continue
+        r = u - 1 if ours[i] else team_size + u - 1
+        if order[r] < 0:
+            order[r] = seen
+            first_row[seen] = i
+            seen += 1
+            total[r, 0], total[r, 1], total[r, 2] = team[i, 0], team[i, 1], team[i, 2]
+        else:
+            total[r, 0] += team[i, 0]
+            total[r, 1] += team[i, 1]
+            total[r, 2] += team[i, 2]
+        count[r] += 1
+        k = part[i]
+        if 0 <= k < n_parts and first[r, k] < 0:
+            first[r, k] = i
+    out = np.empty((seen, 9))
+    for r in range(m):
+        j = order[r]
+        if j < 0:
+            continue
+        row = out[j]
+        h = first[r, head]
+        if h >= 0:
+            z = team[h, 2]
+            row[0], row[1], row[2] = team[h, 0], team[h, 1], z if z > 0.0 else 0.0
+            row[7] = 1.0 if z < 0.25 else 0.0
+        else:
+            k = count[r]
+            z = total[r, 2] / k
+            row[0], row[1], row[2] = total[r, 0] / k, total[r, 1] / k, z if z > 0.0 else 0.0
+            row[7] = 0.0
+        i = first_row[j]
+        row[3], row[4], row[5] = level[i, 0], level[i, 1], level[i, 2]
+        row[6] = math.nan
+        for q in range(pairs.shape[0]):
+            a, b = first[r, pairs[q, 0]], first[r, pairs[q, 1]]
+            if a >= 0 and b >= 0:
+                t = math.atan2(team[a, 1] - team[b, 1], team[a, 0] - team[b, 0]) - math.pi / 2
+                if math.isfinite(t):
+                    row[6] = (t + math.pi) % (2.0 * math.pi) - math.pi
+                break
+        row[8] = r
+    return out
+
+
+@njit
+def in_view(points: np.ndarray, x: float, y: float, heading: float, torso_height: float,
+            cam_pos: np.ndarray, cam_rot: np.ndarray, half_cone: float) -> int:
+    """Which team-frame points (n <= 63, 3; m) lie within half_cone (rad) of a camera's
+    axis, both horizontally and vertically, in front of it, as bits (1 << i): camera
+    pose (cam_rot, cam_pos) in the level frame of a torso at (x, y, heading) and
+    torso_height (m)."""
+    n = points.shape[0]
+    c, s = math.cos(heading), math.sin(heading)
+    bits = 0
+    rel = np.empty((1, 3))
+    for i in range(n):
+        ex, ey = points[i, 0] - x, points[i, 1] - y
+        rel[0, 0] = c * ex + s * ey - cam_pos[0]
+        rel[0, 1] = -s * ex + c * ey - cam_pos[1]
+        rel[0, 2] = points[i, 2] - torso_height - cam_pos[2]
+        cx, cy, cz = _row_times(rel, cam_rot, n)
+        hor = math.atan2(cy, cx)
+        ver = math.atan2(cz, math.hypot(cx, cy))
+        if abs(hor) < half_cone and abs(ver) < half_cone and cx > 0:
+            bits |= 1 << i
+    return bits
+
+
+@njit
+def place_seen(landmark_z: np.ndarray, landmarks: np.ndarray, lines: np.ndarray, ball: np.ndarray,
+               players: np.ndarray, ours: np.ndarray, unum: np.ndarray, part: np.ndarray, x: float, y: float,
+               heading: float, torso_height: float, own_unum: int, team_size: int, n_parts: int, head: int,
+               pairs: np.ndarray) -> np.ndarray:
+    """A vision frame's level-frame objects placed on the field (`WorldModel._see`) from
+    the pose (x, y m, heading rad; team frame) and the torso height (m).
+
+    The torso height first moves 20 % toward the median (np.median's value) of the
+    heights implied by landmarks of known height landmark_z (k,; nan: unknown) seen at
+    landmarks (k, 3) and by the field lines' end points (n, 2, 3) on the ground. Then the
+    ball (0 or 1 row) and the robots' parts (see `place_robots`) go to the team frame.
+    Returns (1 + robots, 9): row 0 the new torso height, the ball's team-frame position
+    and its ground distance (m; nan without a ball), then one row per robot."""
+    k, n = landmarks.shape[0], lines.shape[0]
+    z = np.empty(k + 2 * n)
+    m = 0
+    for i in range(k):
+        v = landmark_z[i] - landmarks[i, 2]
+        if math.isfinite(v):
+            z[m] = v
+            m += 1
+    for i in range(n):
+        for e in range(2):
+            v = -lines[i, e, 2]
+            if math.isfinite(v):
+                z[m] = v
+                m += 1
+    if m:
+        srt = np.sort(z[:m])
+        h = m // 2
+        torso_height += 0.2 * ((srt[h] if m % 2 else (srt[h - 1] + srt[h]) / 2.0) - torso_height)
+    robots = place_robots(players, ours, unum, part, x, y, heading, torso_height, own_unum, team_size,
+                          n_parts, head, pairs)
+    out = np.full((1 + robots.shape[0], 9), math.nan)
+    out[0, 0] = torso_height
+    if ball.shape[0]:
+        c, s = math.cos(heading), math.sin(heading)
+        bx, by = ball[0, 0], ball[0, 1]
+        out[0, 1], out[0, 2] = x + c * bx - s * by, y + s * bx + c * by
+        out[0, 3] = torso_height + ball[0, 2]
+        out[0, 4] = math.hypot(bx, by)
+    out[1:] = robots
+    return out

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from agent.geometry import camera_in_torso, from_polar
+from agent import _kernels
+from agent.geometry import CAMERA_ABOVE_PIVOT, NECK_Z, PITCH_PIVOT_Z
 from models.messages import Vision
 
 
@@ -44,34 +45,45 @@ class Observation:
         return len(self.landmark_names) > 0 or len(self.lines) > 0
 
 
+_NO_BALL = np.empty((0, 3))
+_UPRIGHT = np.eye(3)
+_FROM_TILT = np.empty((0, 0))  # observe_frame: the level rotation from (roll, pitch)
+
+
 def camera_in_level(neck_yaw: float, head_pitch: float, level: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Camera pose (R, p) in the level frame for head angles (rad) and the torso's
-    torso-to-level rotation `level` (3x3)."""
-    r, p = camera_in_torso(neck_yaw, head_pitch)
-    return level @ r, level @ p
+    torso-to-level rotation `level` (3x3): `camera_in_torso` turned by `level`."""
+    return _kernels.camera_in_level(float(neck_yaw), float(head_pitch), np.asarray(level, dtype=float),
+                                    NECK_Z, PITCH_PIVOT_Z, CAMERA_ABOVE_PIVOT)
 
 
 def observe(vision: Vision, time: float, neck_yaw: float, head_pitch: float,
-            level: np.ndarray | None = None) -> Observation:
+            level: np.ndarray | None = None, tilt: tuple[float, float] | None = None) -> Observation:
     """Move every object of a vision percept into the level frame.
 
     neck_yaw, head_pitch: hj1, hj2 (rad) of the same percept; level: the torso's
-    torso-to-level rotation (identity for an upright torso).
+    torso-to-level rotation (identity for an upright torso), or tilt: the torso's
+    (roll, pitch) (rad) it is made of (`skills.imu.TiltEstimator.level`).
     """
     if level is None:
-        level = np.eye(3)
-    rot, pos = camera_in_level(neck_yaw, head_pitch, level)
-    # One conversion for every object of the frame, then split.
+        level = _UPRIGHT if tilt is None else _FROM_TILT
+    roll, pitch = (0.0, 0.0) if tilt is None else tilt
     n_lm, n_ln, n_pl = len(vision.landmarks), len(vision.lines), len(vision.players)
-    parts = [vision.landmarks.reshape(-1, 3), vision.lines.reshape(-1, 3), vision.players.reshape(-1, 3)]
-    if vision.ball is not None:
-        parts.append(np.asarray(vision.ball, dtype=float).reshape(1, 3))
-    allp = from_polar(np.concatenate(parts)) @ rot.T + pos
-    a, b = n_lm, n_lm + 2 * n_ln
+    ball = _NO_BALL if vision.ball is None else np.asarray(vision.ball, dtype=float).reshape(1, 3)
+    # One compiled conversion for every object of the frame (and the camera pose), then split.
+    block = _kernels.observe_frame(_rows(vision.landmarks), _rows(vision.lines), _rows(vision.players), ball,
+                                   float(neck_yaw), float(head_pitch), np.asarray(level, dtype=float),
+                                   roll, pitch, NECK_Z, PITCH_PIVOT_Z, CAMERA_ABOVE_PIVOT)
+    a, b = 4 + n_lm, 4 + n_lm + 2 * n_ln
     return Observation(
-        time=time, landmark_names=vision.landmark_names, landmarks=allp[:a],
-        ball=allp[-1] if vision.ball is not None else None, lines=allp[a:b].reshape(n_ln, 2, 3),
+        time=time, landmark_names=vision.landmark_names, landmarks=block[4:a],
+        ball=block[-1] if vision.ball is not None else None, lines=block[a:b].reshape(n_ln, 2, 3),
         player_ours=np.asarray(vision.player_ours, dtype=bool),
         player_unum=np.asarray(vision.player_unum, dtype=int),
         player_part=np.asarray(vision.player_part, dtype=int),
-        players=allp[b:b + n_pl], camera_rotation=rot, camera_position=pos)
+        players=block[b:b + n_pl], camera_rotation=block[:3], camera_position=block[3])
+
+
+def _rows(a: np.ndarray) -> np.ndarray:
+    """Polar readings as float (k, 3) rows."""
+    return (a if a.dtype == np.float64 else a.astype(float)).reshape(-1, 3)

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from agent import comm
+from agent import _kernels, comm
 from agent.ballfilter import BallFilter
 from agent.geometry import landmarks_in_team
 from agent.localization import LocalizationParams, ParticleFilter
@@ -40,22 +40,14 @@ HEARD_BALL_SIGMA = 0.4  # m, a teammate's ball report
 PLAYER_MEMORY = 4.0  # s a player sighting is reported on to teammates
 _PART = {n: i for i, n in enumerate(SEEN_PARTS)}
 _HEAD = _PART["head"]
-_HEADING_PAIRS = ((_PART["llowerarm"], _PART["rlowerarm"]), (_PART["lfoot"], _PART["rfoot"]))
+_HEADING_PAIRS = np.array([(_PART["llowerarm"], _PART["rlowerarm"]), (_PART["lfoot"], _PART["rfoot"])])
 _HALF_CONE = VIEW_CONE / 2 - math.radians(5.0)  # margin for "should have been seen"
+_NO_BALL = np.empty((0, 3))
 
 
 def player_key(ours: bool, unum: int) -> str:
     """The `WorldModel.objects` key of a player: "T<unum>" for a teammate, "O<unum>" for an opponent."""
     return f"{'T' if ours else 'O'}{unum}"
-
-
-def _median(z: np.ndarray) -> float:
-    """np.median of finite values, bit for bit (the middle one, or the two middle ones'
-    sum halved), without its generic machinery."""
-    s = np.sort(z)
-    n = len(s)
-    h = n // 2
-    return float(s[h]) if n % 2 else float((s[h - 1] + s[h]) / 2.0)
 
 
 _decoded: dict[tuple[str, float], comm.TeamMessage | None] = {}
@@ -110,6 +102,8 @@ class WorldModel:
         self.localizer = ParticleFilter(side, seed=seed, params=params)
         self.ball_filter = BallFilter()
         self.landmark_positions = landmarks_in_team(side)
+        self._landmark_z = {n: float(p[2]) for n, p in self.landmark_positions.items()}
+        self._heights: dict[tuple[str, ...], np.ndarray] = {}
         self.objects: dict[str, WorldObject] = {}
         for name, pos in self.landmark_positions.items():
             self.objects[name] = WorldObject(name, position=pos.copy(), valid=True)
@@ -117,10 +111,14 @@ class WorldModel:
         for u in range(1, TEAM_SIZE + 1):
             for ours in (True, False):
                 self.objects[player_key(ours, u)] = WorldObject(player_key(ours, u))
-        # Other robots' memories by percept key (100 for ours + uniform number).
-        self._robots = {(100 if ours else 0) + u: self.objects[player_key(ours, u)]
-                        for ours in (True, False) for u in range(1, TEAM_SIZE + 1)
-                        if not (ours and u == unum)}
+        # The players' memories by uniform number (index 0 unused).
+        self._mates = [None] + [self.objects[player_key(True, u)] for u in range(1, TEAM_SIZE + 1)]
+        self._opponents = [None] + [self.objects[player_key(False, u)] for u in range(1, TEAM_SIZE + 1)]
+        # Other robots' memories by `_kernels.place_robots` slot: ours by uniform number, then
+        # theirs (None for this player).
+        self._robot_slots = [None if ours and u == unum else self.objects[player_key(ours, u)]
+                             for ours in (True, False) for u in range(1, TEAM_SIZE + 1)]
+        self._movable = [o for n, o in self.objects.items() if n not in self.landmark_positions]
         self.last_fixed_seen = -math.inf  # s, last vision frame with a landmark or line
         self.torso_height = 0.36  # m, re-estimated from landmarks and lines
         self.observation: Observation | None = None
@@ -153,10 +151,10 @@ class WorldModel:
         return self.objects["ball"]
 
     def teammate(self, unum: int) -> WorldObject:
-        return self.objects[player_key(True, unum)]
+        return self._mates[unum] if 0 < unum <= TEAM_SIZE else self.objects[player_key(True, unum)]
 
     def opponent(self, unum: int) -> WorldObject:
-        return self.objects[player_key(False, unum)]
+        return self._opponents[unum] if 0 < unum <= TEAM_SIZE else self.objects[player_key(False, unum)]
 
     def to_field(self, level_xyz: np.ndarray) -> np.ndarray:
         """Level-frame points (..., 3) relative to the torso -> team frame (m)."""
@@ -182,8 +180,8 @@ class WorldModel:
         """(bearing rad in the torso's yaw, ground distance m) of the ball estimate, if any."""
         if not self.ball_filter.initialized:
             return None
-        bx, by = self.ball_filter.position
-        x, y, t = self.pose
+        bx, by = self.ball_filter.x[:2].tolist()
+        x, y, t = self.pose.tolist()
         return float(wrap(math.atan2(by - y, bx - x) - t)), math.hypot(bx - x, by - y)
 
     # ----------------------------------------------------------------- update
@@ -207,23 +205,26 @@ class WorldModel:
             if not self.tilt.fallen:  # a falling or lying camera misleads more than it tells
                 self._see(percept)
         self._hear(percept)
-        b = self.ball
         if self.ball_filter.initialized:
-            b.position = np.array([*self.ball_filter.position, b.position[2] if b.known else 0.042])
+            b = self.ball
+            x, y = self.ball_filter.x[:2].tolist()
+            b.position = np.array((x, y, b.position[2] if b.known else 0.042))
 
     def _see(self, percept: Percept) -> None:
         obs = observe(percept.vision, percept.time, float(percept.joints[0]), float(percept.joints[1]),
-                      self.tilt.level)
+                      tilt=(self.tilt.roll, self.tilt.pitch))
         self.observation = obs
         if self.localizer.update(obs.landmark_names, obs.landmarks, obs.lines):
             self.last_fixed_seen = percept.time
-        # Torso height from landmarks and lines of known height.
-        known_z = [self.landmark_positions[n][2] if n in self.landmark_positions else np.nan
-                   for n in obs.landmark_names]
-        z = np.concatenate([np.array(known_z) - obs.landmarks[:, 2], -obs.lines[:, :, 2].ravel()])
-        z = z[np.isfinite(z)]
-        if len(z):
-            self.torso_height += 0.2 * (_median(z) - self.torso_height)
+        # Torso height from landmarks and lines of known height, then ball and robots placed
+        # with it, in one kernel.
+        x, y, h = self.pose.tolist()
+        seen = _kernels.place_seen(
+            self._landmark_heights(obs.landmark_names), obs.landmarks, obs.lines,
+            _NO_BALL if obs.ball is None else obs.ball[None], obs.players, obs.player_ours, obs.player_unum,
+            obs.player_part, x, y, h, self.torso_height, self.unum, TEAM_SIZE, len(SEEN_PARTS), _HEAD,
+            _HEADING_PAIRS)
+        self.torso_height, *_, dist = seen[0, :5].tolist()
         t = percept.time
         v = percept.vision
         for name, pol in zip(v.landmark_names, v.landmarks):
@@ -231,64 +232,43 @@ class WorldModel:
             if o is not None:
                 o.vision, o.last_seen, o.currently_seen = pol, t, True
         if obs.ball is not None:
-            pos = self.to_field(obs.ball)
-            dist = float(np.hypot(obs.ball[0], obs.ball[1]))
+            pos = seen[0, 1:4]
             self.ball_filter.update(pos[:2], BALL_SIGMA_NEAR + BALL_SIGMA_PER_M * dist, t)
             b = self.ball
             b.position, b.vision, b.last_seen, b.currently_seen, b.valid = pos, v.ball, t, True, True
         if len(obs.players):
-            self._see_players(obs, t)
+            self._see_players(seen[1:], t)
         self._invalidate(obs)
 
-    def _see_players(self, obs: Observation, t: float) -> None:
-        pos = self.to_field(obs.players)
-        # Group the seen parts by robot in one pass over plain ints (no mask per robot);
-        # within a robot its parts keep their order in the percept.
-        groups: dict[int, list[int]] = {}
-        for i, (ours, unum) in enumerate(zip(obs.player_ours.tolist(), obs.player_unum.tolist())):
-            groups.setdefault(int(ours) * 100 + unum, []).append(i)
-        parts_all = obs.player_part.tolist()
-        rows = pos.tolist()  # plain floats: the same values, without numpy scalar overhead
-        robots = self._robots
-        for key, idx in groups.items():
-            o = robots.get(key)  # None: an out-of-range number, or this player itself
-            if o is None:
-                continue
-            first: dict[int, int] = {}  # part -> its first row
-            for i in idx:
-                first.setdefault(parts_all[i], i)
-            head = first.get(_HEAD)
-            if head is not None:
-                x, y, z = rows[head]
-                o.position = np.array([x, y, max(0.0, z)])
-                o.fallen = z < 0.25
-            else:
-                o.position = pos[idx].mean(axis=0)
-                o.position[2] = max(0.0, o.position[2])
-                o.fallen = False
-            for left, right in _HEADING_PAIRS:
-                if left in first and right in first:
-                    lp, rp = rows[first[left]], rows[first[right]]
-                    heading = math.atan2(lp[1] - rp[1], lp[0] - rp[0]) - math.pi / 2
-                    if math.isfinite(heading):
-                        o.heading = float(wrap(heading))
-                    break
-            o.vision = obs.players[idx[0]].copy()
+    def _landmark_heights(self, names: tuple[str, ...]) -> np.ndarray:
+        """Heights (m) of the named landmarks (nan: not a landmark), one array per name set."""
+        z = self._heights.get(names)
+        if z is None:
+            if len(self._heights) > 256:
+                self._heights.clear()
+            z = self._heights[names] = np.array([self._landmark_z.get(n, math.nan) for n in names])
+        return z
+
+    def _see_players(self, seen: np.ndarray, t: float) -> None:
+        """Robots' memories from `_kernels.place_robots` rows (one per robot seen at time t)."""
+        robots = self._robot_slots
+        for p, v, (hd, down, r) in zip(seen[:, 0:3], seen[:, 3:6], seen[:, 6:9].tolist()):
+            o = robots[int(r)]
+            o.position, o.vision, o.fallen = p, v, down > 0.0
+            if hd == hd:  # not nan: a pair of parts gave the heading
+                o.heading = hd
             o.last_seen, o.currently_seen, o.valid = t, True, True
 
     def _invalidate(self, obs: Observation) -> None:
         """Mark unseen ball and robots whose remembered place is in view as not valid."""
-        movable = [o for n, o in self.objects.items() if n not in self.landmark_positions
-                   and o.valid and not o.currently_seen and o.known]
+        movable = [o for o in self._movable if o.valid and not o.currently_seen and o.known]
         if not movable:
             return
-        pts = self.to_level(np.array([o.position for o in movable]))
-        cam = (pts - obs.camera_position) @ obs.camera_rotation  # camera frame
-        hor = np.arctan2(cam[:, 1], cam[:, 0])
-        ver = np.arctan2(cam[:, 2], np.hypot(cam[:, 0], cam[:, 1]))
-        inside = (np.abs(hor) < _HALF_CONE) & (np.abs(ver) < _HALF_CONE) & (cam[:, 0] > 0)
-        for o, hidden in zip(movable, inside):
-            if hidden:
+        x, y, h = self.pose.tolist()
+        inside = _kernels.in_view(np.array([o.position for o in movable]), x, y, h, self.torso_height,
+                                  obs.camera_position, obs.camera_rotation, _HALF_CONE)
+        for i, o in enumerate(movable):
+            if inside >> i & 1:
                 o.valid = False
 
     # ---------------------------------------------------------- communication
@@ -296,12 +276,13 @@ class WorldModel:
     def _hear(self, percept: Percept) -> None:
         self.heard = []
         for h in percept.heard:
-            msg = _decode_heard(h)
+            msg = _decode_heard(h) if h.team == "ours" else None
             if msg is None or msg.unum == self.unum:
                 continue
             self.heard.append(msg)
             t = msg.time
             mate = self.teammate(msg.unum)
+            ball = self.ball
             if not msg.not_localized and not mate.currently_seen:
                 mate.position = np.array([msg.x, msg.y, 0.0])
                 mate.heading, mate.valid = msg.heading, True
@@ -311,11 +292,10 @@ class WorldModel:
                 self.teammate_lost[msg.unum] = t
             else:
                 self.teammate_lost.pop(msg.unum, None)
-            if msg.ball is not None and not self.ball.currently_seen and (
-                    percept.time - self.ball.last_seen > 0.5):
+            if msg.ball is not None and not ball.currently_seen and percept.time - ball.last_seen > 0.5:
                 self.ball_filter.update(np.array(msg.ball), HEARD_BALL_SIGMA, percept.time)
-                self.ball.valid = True
-                self.ball.last_heard = t
+                ball.valid = True
+                ball.last_heard = t
             for r in msg.teammates:
                 if r.unum == self.unum:
                     if self.not_localized:

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
+from filterpy.kalman import KalmanFilter
 
-from agent.ballfilter import ROLLING_DECELERATION, ROLLING_DRAG, BallFilter, rolling_distance
+from agent.ballfilter import ROLLING_DECELERATION, ROLLING_DRAG, BallFilter, _nis, rolling_distance
 
 from .helpers import perceiving_match, place_standing, run
 
@@ -44,6 +47,57 @@ def test_a_far_measurement_resets():
         f.update(np.array([1.0, 1.0]), 0.05, 0.0)
     f.update(np.array([5.0, -3.0]), 0.05, 0.2)
     np.testing.assert_allclose(f.position, [5.0, -3.0], atol=1e-6)
+
+
+def _filterpy_twin(f: BallFilter, dt: float) -> KalmanFilter:
+    """A filterpy KalmanFilter in f's state with the motion model's F, B, Q for dt."""
+    kf = KalmanFilter(dim_x=4, dim_z=2)
+    kf.H = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
+    kf.x, kf.P = f.x.copy(), f.P.copy()
+    decay = math.exp(-f.drag * dt)
+    reach = (1.0 - decay) / f.drag
+    kf.F = np.array([[1.0, 0.0, reach, 0.0], [0.0, 1.0, 0.0, reach],
+                     [0.0, 0.0, decay, 0.0], [0.0, 0.0, 0.0, decay]])
+    kf.B = np.array([[0.5 * dt * dt, 0.0], [0.0, 0.5 * dt * dt], [dt, 0.0], [0.0, dt]])
+    g = np.array([0.5 * dt * dt, dt])
+    qb = np.outer(g, g) * f.sigma_accel ** 2
+    kf.Q = np.array([[qb[0, 0], 0, qb[0, 1], 0], [0, qb[0, 0], 0, qb[0, 1]],
+                     [qb[1, 0], 0, qb[1, 1], 0], [0, qb[1, 0], 0, qb[1, 1]]])
+    return kf
+
+
+def test_bit_for_bit_filterpy():
+    """The compiled predict and update give filterpy's very floats (numpy's BLAS and
+    LAPACK products), on random states, including covariances whose LU pivots."""
+    rng = np.random.default_rng(3)
+    for k in range(300):
+        f = BallFilter()
+        a = rng.normal(size=(4, 4)) * rng.choice([0.01, 0.3, 3.0])
+        f.P[:] = a @ a.T + np.diag(rng.random(4)) * 1e-3
+        if k % 3 == 0:  # |P01| > |P00|: the 2x2 LU swaps its rows
+            f.P[0, 1] = f.P[1, 0] = 1.5 * f.P[0, 0]
+        f.x[:] = rng.normal(size=4) * (rng.random() < 0.9)
+        dt = float(rng.choice([0.02, 0.020000000000000018, 0.04]))
+        kf = _filterpy_twin(f, dt)
+        v = f.x[2:4]
+        speed = float(np.hypot(*v))
+        if speed * math.exp(-f.drag * dt) > f.deceleration * dt:
+            u = -f.deceleration * v / speed
+        else:
+            u = -v * math.exp(-f.drag * dt) / dt
+        kf.predict(u=u)
+        f.predict(dt)
+        assert np.array_equal(f.x, kf.x) and np.array_equal(f.P, kf.P)
+        z, sigma = f.x[:2] + rng.normal(size=2) * 0.05, 0.05
+        r = np.eye(2) * sigma ** 2
+        innov = z - kf.x[:2]
+        nis = float(innov @ np.linalg.solve(kf.P[:2, :2] + r, innov))
+        kf.update(z, R=r)
+        f.initialized = True
+        f.gate = f.maneuver = math.inf
+        f.update(z, sigma, 0.0)
+        assert np.array_equal(f.x, kf.x) and np.array_equal(f.P, kf.P)
+        assert _nis(kf.x_prior, kf.P_prior, z, sigma ** 2) == nis
 
 
 def test_velocity_of_a_trainer_rolled_ball_within_20_percent():

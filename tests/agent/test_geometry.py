@@ -99,3 +99,39 @@ def test_known_object_lands_where_it_is(side, heading, yaw, pitch):
     assert np.linalg.norm(est - true) < 0.04
     # The same in the team frame of the robot's side.
     np.testing.assert_allclose(field_to_team(est, side), field_to_team(true, side), atol=0.04)
+
+
+@pytest.mark.parametrize("n_players", [0, 1, 2, 7, 40])
+def test_observe_repeats_the_numpy_chain_bit_for_bit(n_players):
+    """observe's compiled conversion gives the floats of camera_in_torso, the level
+    rotation and from_polar(...) @ R.T + p in numpy (one-row products included)."""
+    from models.messages import Vision
+
+    rng = np.random.default_rng(n_players)
+    for k in range(20):
+        n_lm, n_ln = (0, 0) if k % 2 else rng.integers(0, 4, 2)
+        polar = lambda *s: rng.normal(size=(*s, 3)) * (5.0, 1.0, 0.4) + (6.0, 0.0, 0.0)  # noqa: E731
+        ball = polar() if k % 3 else None
+        v = Vision(landmark_names=tuple(f"F{i}" for i in range(n_lm)), landmarks=polar(n_lm), ball=ball,
+                   lines=polar(n_ln, 2), player_ours=rng.random(n_players) < 0.5,
+                   player_unum=rng.integers(1, 12, n_players), player_part=rng.integers(0, 5, n_players),
+                   players=polar(n_players))
+        yaw, pitch = rng.uniform(-2, 2), rng.uniform(-0.7, 0.7)
+        tilt = TiltEstimator()
+        tilt.roll, tilt.pitch = rng.normal(0, 0.1, 2).tolist()
+        level = tilt.level
+        obs = observe(v, 1.0, yaw, pitch, level)
+        by_tilt = observe(v, 1.0, yaw, pitch, tilt=(tilt.roll, tilt.pitch))
+        for f in ("landmarks", "lines", "players", "camera_rotation", "camera_position"):
+            assert np.array_equal(getattr(obs, f), getattr(by_tilt, f))
+        r, p = camera_in_torso(yaw, pitch)
+        rot, pos = level @ r, level @ p
+        parts = [v.landmarks.reshape(-1, 3), v.lines.reshape(-1, 3), v.players.reshape(-1, 3)]
+        if ball is not None:
+            parts.append(ball.reshape(1, 3))
+        allp = from_polar(np.concatenate(parts)) @ rot.T + pos
+        assert np.array_equal(obs.camera_rotation, rot) and np.array_equal(obs.camera_position, pos)
+        got = [obs.landmarks, obs.lines.reshape(-1, 3), obs.players]
+        if ball is not None:
+            got.append(obs.ball[None])
+        assert np.array_equal(np.concatenate(got), allp)

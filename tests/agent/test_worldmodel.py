@@ -165,3 +165,113 @@ def test_teammates_heard_but_not_seen():
         mate = wm.teammate(other + 1)
         assert mate.last_seen < t0 + 0.1 and mate.last_heard > m.world.time - 1.0
         assert np.hypot(*(mate.position[:2] - true_pose_team(m, other)[:2])) < 0.15
+
+
+def _see_players_reference(wm: WorldModel, obs, t: float) -> dict[str, tuple]:
+    """The robots' memories after a frame, by the per-robot numpy code `_see_players`
+    replaced: {key: (position, fallen, heading, vision)}."""
+    from agent.worldmodel import _HEAD, _HEADING_PAIRS, player_key
+    from models.geometry import wrap
+
+    pos = wm.to_field(obs.players)
+    out = {}
+    for ours, unum in {(bool(o), int(u)) for o, u in zip(obs.player_ours, obs.player_unum)}:
+        if not 1 <= unum <= 11 or (ours and unum == wm.unum):
+            continue
+        idx = [i for i in range(len(pos)) if obs.player_ours[i] == ours and obs.player_unum[i] == unum]
+        first = {}
+        for i in idx:
+            first.setdefault(int(obs.player_part[i]), i)
+        o = wm.objects[player_key(ours, unum)]
+        if _HEAD in first:
+            x, y, z = pos[first[_HEAD]]
+            p, fallen = np.array([x, y, max(0.0, z)]), bool(z < 0.25)
+        else:
+            p = pos[idx].mean(axis=0)
+            p[2], fallen = max(0.0, p[2]), False
+        heading = o.heading
+        for left, right in _HEADING_PAIRS.tolist():
+            if left in first and right in first:
+                lp, rp = pos[first[left]], pos[first[right]]
+                h = math.atan2(lp[1] - rp[1], lp[0] - rp[0]) - math.pi / 2
+                heading = float(wrap(h)) if math.isfinite(h) else heading
+                break
+        out[player_key(ours, unum)] = (p, fallen, heading, obs.players[idx[0]])
+    return out
+
+
+def test_see_players_matches_the_per_robot_code():
+    """Robots placed from their parts (head, else the parts' mean; heading from arms, else
+    feet; this player and numbers out of range skipped) give the floats of the per-robot
+    numpy code, bit for bit."""
+    from agent import _kernels
+    from agent.perception import Observation
+    from agent.worldmodel import _HEAD, _HEADING_PAIRS
+
+    rng = np.random.default_rng(4)
+    for k in range(30):
+        wm = WorldModel("R" if k % 2 else "L", 3)
+        wm.localizer.reset_around(*rng.uniform(-5, 5, 2), rng.uniform(-3, 3), sigma_xy=0.1, sigma_theta=0.1)
+        wm.torso_height = rng.uniform(0.3, 0.4)
+        n = int(rng.integers(0, 60))
+        obs = Observation(time=1.0, landmark_names=(), landmarks=np.zeros((0, 3)), ball=None,
+                          lines=np.zeros((0, 2, 3)), player_ours=rng.random(n) < 0.5,
+                          player_unum=rng.integers(0, 13, n), player_part=rng.integers(0, 5, n),
+                          players=rng.normal(size=(n, 3)) * (4.0, 4.0, 0.3),
+                          camera_rotation=np.eye(3), camera_position=np.zeros(3))
+        expected = _see_players_reference(wm, obs, 1.0)
+        x, y, h = wm.pose.tolist()
+        seen = _kernels.place_seen(np.zeros(0), obs.landmarks, obs.lines, np.zeros((0, 3)), obs.players,
+                                   obs.player_ours, obs.player_unum, obs.player_part, x, y, h,
+                                   wm.torso_height, wm.unum, 11, 5, _HEAD, _HEADING_PAIRS)
+        wm._see_players(seen[1:], 1.0)
+        for key, o in wm.objects.items():
+            if key in expected:
+                p, fallen, heading, vision = expected[key]
+                assert np.array_equal(o.position, p) and o.fallen is fallen and o.currently_seen
+                assert np.array_equal(o.vision, vision)
+                assert o.heading == heading or (math.isnan(o.heading) and math.isnan(heading))
+            elif key[0] in "TO":
+                assert not o.currently_seen and not o.known
+
+
+def test_in_view_matches_the_numpy_cone_test():
+    """`_invalidate`'s compiled cone test agrees with its numpy form, one-point sets included."""
+    from agent import _kernels
+    from agent.perception import camera_in_level
+    from agent.worldmodel import _HALF_CONE
+    from models.geometry import Pose2
+
+    rng = np.random.default_rng(5)
+    for n in list(range(1, 24)) * 4:
+        pts = rng.normal(size=(n, 3)) * (6.0, 6.0, 0.3)
+        x, y, h, th = *rng.uniform(-3, 3, 3).tolist(), 0.35
+        rot, pos = camera_in_level(rng.uniform(-2, 2), rng.uniform(-0.5, 0.5), np.eye(3))
+        lx, ly = Pose2(x, y, h).to_local(pts[:, 0], pts[:, 1])
+        cam = (np.stack([lx, ly, pts[:, 2] - th], axis=1) - pos) @ rot
+        hor = np.arctan2(cam[:, 1], cam[:, 0])
+        ver = np.arctan2(cam[:, 2], np.hypot(cam[:, 0], cam[:, 1]))
+        inside = (np.abs(hor) < _HALF_CONE) & (np.abs(ver) < _HALF_CONE) & (cam[:, 0] > 0)
+        bits = _kernels.in_view(pts, x, y, h, th, pos, rot, _HALF_CONE)
+        assert [bool(bits >> i & 1) for i in range(n)] == inside.tolist()
+
+
+def test_torso_height_moves_toward_the_median_of_landmarks_and_lines():
+    """place_seen's torso height: 20 % toward np.median of the heights that landmarks of
+    known height (nan: unknown) and the lines' end points imply, bit for bit."""
+    from agent import _kernels
+    from agent.worldmodel import _HEAD, _HEADING_PAIRS
+
+    rng = np.random.default_rng(6)
+    for _ in range(200):
+        n_lm, n_ln = rng.integers(0, 6), rng.integers(0, 5)
+        known = np.where(rng.random(n_lm) < 0.8, rng.uniform(0, 0.8, n_lm), np.nan)
+        lm, ln = rng.normal(0, 0.3, (n_lm, 3)), rng.normal(-0.35, 0.05, (n_ln, 2, 3))
+        z = np.concatenate([known - lm[:, 2], -ln[:, :, 2].ravel()])
+        z = z[np.isfinite(z)]
+        th = 0.36
+        expected = th + 0.2 * (float(np.median(z)) - th) if len(z) else th
+        none = np.zeros(0, dtype=int)
+        seen = _kernels.place_seen(known, lm, ln, np.zeros((0, 3)), np.zeros((0, 3)), none.astype(bool), none,
+                                   none, 0.0, 0.0, 0.0, th, 1, 11, 5, _HEAD, _HEADING_PAIRS)
+        assert seen[0, 0] == expected
