@@ -7,9 +7,9 @@ vision frame (1) odometry moves the particles (the walk's steps of every
 cycle, gathered by `predict`, moved by at once with noise), (2) landmark and
 field line observations weight them (Gaussians over distance and bearing
 error, in log space; the longest K observed lines each scored against its most
-similar known line by end-point distance, angle and length ratio), (3) resampling, only when something was seen, with 5 % of
-the particles drawn anew for a kidnapped robot, then a small random walk. The
-pose estimate is the weighted mean of the weighted set (before resampling) with
+similar known line by end-point distance, angle and length ratio), (3)
+resampling, only when something was seen, with 5 % of the particles drawn anew
+for a kidnapped robot, then a small random walk. The pose estimate is the weighted mean of the weighted set (before resampling) with
 a circular mean for the heading, moved on by odometry until the next frame.
 
 Deviations, each to make the filter fast or quick to recover:
