@@ -1,16 +1,17 @@
 """Monte Carlo localization: a particle filter over the robot's (x, y, heading).
 
 Frames: particles live in the *team* frame (m, rad; own goal at -x);
-observations come in the *level* torso frame (see `agent.geometry`), reduced
-to 2D. Section 8.2.2 of MacAlpine's dissertation: 500 particles; on every
-vision frame (1) odometry moves the particles (the walk's steps of every
-cycle, gathered by `predict`, moved by at once with noise), (2) landmark and
-field line observations weight them (Gaussians over distance and bearing
-error, in log space; the longest K observed lines each scored against its most
-similar known line by end-point distance, angle and length ratio), (3)
-resampling, only when something was seen, with 5 % of the particles drawn anew
-for a kidnapped robot, then a small random walk. The pose estimate is the weighted mean of the weighted set (before resampling) with
-a circular mean for the heading, moved on by odometry until the next frame.
+observations come in the *level* torso frame (see `agent.geometry`), reduced to
+2D. Section 8.2.2 of MacAlpine's dissertation: 500 particles; on every vision
+frame (1) odometry moves the particles (the walk's steps of every cycle,
+gathered by `predict`, moved by at once with noise), (2) landmark and field
+line observations weight them (Gaussians over distance and bearing error, in
+log space; the longest K observed lines each scored against its most similar
+known line by end-point distance, angle and length ratio), (3) resampling, only
+when something was seen, with 5 % of the particles drawn anew for a kidnapped
+robot, then a small random walk. The pose estimate is the weighted mean of the
+weighted set (before resampling) with a circular mean for the heading, moved on
+by odometry until the next frame.
 
 Deviations, each to make the filter fast or quick to recover:
 
