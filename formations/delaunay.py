@@ -136,7 +136,7 @@ class Formation:
                     break
         if self._any_follow:
             pos[self._follow] = ball
-        return np.clip(pos, self._lo, self._hi)
+        return np.minimum(np.maximum(pos, self._lo), self._hi)  # = np.clip, in half the time
 
     def position(self, role: str, ball: np.ndarray) -> np.ndarray:
         return self.positions_at(ball)[self.index(role)]

@@ -27,7 +27,8 @@ def field_box(margin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
 
 def clip_to_field(points: np.ndarray, margin: float = 0.0) -> np.ndarray:
     """Clips (..., 2) points to the field rectangle shrunk by `margin` meters."""
-    return np.clip(np.asarray(points, dtype=float), *field_box(margin))
+    lo, hi = field_box(margin)
+    return np.minimum(np.maximum(np.asarray(points, dtype=float), lo), hi)  # = np.clip, faster
 
 
 def inside_field(points: np.ndarray, margin: float = 0.0) -> np.ndarray:
