@@ -1,17 +1,16 @@
 """Monte Carlo localization: a particle filter over the robot's (x, y, heading).
 
 Frames: particles live in the *team* frame (m, rad; own goal at -x);
-observations come in the *level* torso frame (see `agent.geometry`), reduced to
-2D. Section 8.2.2 of MacAlpine's dissertation: 500 particles; on every vision
-frame (1) odometry moves the particles (the walk's steps of every cycle,
-gathered by `predict`, moved by at once with noise), (2) landmark and field
-line observations weight them (Gaussians over distance and bearing error, in
-log space; the longest K observed lines each scored against its most similar
-known line by end-point distance, angle and length ratio), (3) resampling, only
-when something was seen, with 5 % of the particles drawn anew for a kidnapped
-robot, then a small random walk. The pose estimate is the weighted mean of the
-weighted set (before resampling) with a circular mean for the heading, moved on
-by odometry until the next frame.
+observations come in the *level* torso frame (see `agent.geometry`), reduced
+to 2D. Section 8.2.2 of MacAlpine's dissertation: 500 particles; on every
+vision frame (1) odometry moves the particles (`predict`, fed every cycle by
+the walk), (2) landmark and field line observations weight them (Gaussians
+over distance and bearing error, in log space; the longest K observed lines
+each scored against its most similar known line by end-point distance, angle
+and length ratio), (3) resampling, only when something was seen, with 5 % of
+the particles drawn anew for a kidnapped robot, then a small random walk. The
+pose estimate is the weighted mean of the weighted set (before resampling) with
+a circular mean for the heading, moved on by odometry until the next frame.
 
 Deviations, each to make the filter fast or quick to recover:
 
@@ -139,9 +138,8 @@ class ParticleFilter:
         self._low = -self._high
         self._range = self._high - self._low
         n_p = self.params.n_particles
-        self._particles = np.zeros((n_p, 3))
-        self._z = np.empty((n_p, 3))  # odometry noise draws, refilled at every particle move
-        self._odo = (0.0, 0.0, 0.0)  # scaled odometry the particles have yet to move by
+        self.particles = np.zeros((n_p, 3))
+        self._z = np.empty((n_p, 3))  # odometry noise draws, refilled every predict
         self.weights = np.full(n_p, 1.0 / n_p)
         self._pose = np.zeros(3)
         self._spread = float("inf")
@@ -159,10 +157,9 @@ class ParticleFilter:
 
     def reset_uniform(self) -> None:
         """Forget everything: particles spread uniformly over the field and headings."""
-        self._odo = (0.0, 0.0, 0.0)
-        self._particles[:] = self._uniform(len(self._particles))
+        self.particles[:] = self._uniform(len(self.particles))
         self.weights.fill(1.0 / len(self.weights))
-        self._pose = self._mean(self._particles, self.weights)
+        self._pose = self._mean(self.particles, self.weights)
         self._spread = float("inf")
 
     def reset_around(self, x: float, y: float, theta: float, sigma_xy: float = 0.1,
@@ -170,49 +167,30 @@ class ParticleFilter:
         """Put `fraction` of the particles (the rest stay) in a Gaussian around a pose
         (team frame; m, rad), e.g. after a beam or a teammate's report. The estimate is
         that pose until the next update weighs the particles."""
-        self._move_particles()
-        n = len(self._particles)
+        n = len(self.particles)
         k = max(1, min(n, int(round(fraction * n))))
         idx = self.rng.choice(n, k, replace=False) if k < n else np.arange(n)
         noise = self.rng.standard_normal((k, 3)) * (sigma_xy, sigma_xy, sigma_theta)
-        self._particles[idx] = np.array([x, y, theta]) + noise
-        self._particles[idx, 2] = wrap(self._particles[idx, 2])
+        self.particles[idx] = np.array([x, y, theta]) + noise
+        self.particles[idx, 2] = wrap(self.particles[idx, 2])
         self.weights.fill(1.0 / n)
         self._pose = np.array([x, y, float(wrap(theta))])  # until the next update weighs them
         self._spread = sigma_xy
 
     # ---------------------------------------------------------------- odometry
 
-    @property
-    def particles(self) -> np.ndarray:
-        """(n, 3) particles (x, y, heading; team frame, m, rad), moved by all odometry so far."""
-        self._move_particles()
-        return self._particles
-
     def predict(self, dx: float, dy: float, dtheta: float) -> None:
-        """An odometry step (dx, dy in m in the torso frame at the step's start, dtheta in
-        rad), scaled per `LocalizationParams`. The pose estimate moves at once; the
-        particles gather the steps and move by their sum, with noise, once a vision
-        frame comes (section 8.2.2's order), which costs a third of moving every cycle."""
+        """Move every particle by an odometry step (dx, dy in m in the torso frame at the
+        step's start, dtheta in rad), scaled and perturbed per `LocalizationParams`."""
         if dx == 0.0 and dy == 0.0 and dtheta == 0.0:
             return
         sx, sy, st = self.params.odometry_scale
-        ex, ey, et = sx * dx, sy * dy, st * dtheta
-        ox, oy, ot = self._odo
-        self._odo = (*Pose2(ox, oy, ot).to_world(ex, ey), ot + et)
-        x, y, h = self._pose.tolist()
-        self._pose = np.array([*Pose2(x, y, h).to_world(ex, ey), wrap(h + et)])
-
-    def _move_particles(self) -> None:
-        """Move every particle by the gathered odometry, perturbed by Gaussian noise of
-        `odometry_noise` times each of its components."""
-        ex, ey, et = self._odo
-        if ex == 0.0 and ey == 0.0 and et == 0.0:
-            return
-        self._odo = (0.0, 0.0, 0.0)
         nx, ny, nt = self.params.odometry_noise
-        self.rng.standard_normal(out=self._z)
-        kernels.predict_particles(self._particles, self._z, ex, ey, et, nx, ny, nt)
+        z = self._z
+        self.rng.standard_normal(out=z)
+        kernels.predict_particles(self.particles, z, sx * dx, sy * dy, st * dtheta, nx, ny, nt)
+        pose = Pose2(*(float(v) for v in self._pose))
+        self._pose = np.array([*pose.to_world(sx * dx, sy * dy), wrap(pose.heading + st * dtheta)])
 
     # ------------------------------------------------------------ observations
 
@@ -300,12 +278,11 @@ class ParticleFilter:
         (l, 2, 2+) level-frame end points (m) of observed field lines. Returns False
         (and changes nothing) when neither a landmark nor a usable line was seen.
         """
-        self._move_particles()
         lm_idx, lm_obs, seg, length = self._select(landmark_names, landmarks, lines)
         self.last_update_seen = bool(lm_idx) or seg is not None
         if not self.last_update_seen:
             return False
-        p = self._particles
+        p = self.particles
         c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
         ll = self._log_likelihood(p, c, s, lm_idx, lm_obs, seg, length)
         n_terms = 2 * len(lm_idx) + (0 if seg is None else 3 * len(seg))
@@ -327,7 +304,7 @@ class ParticleFilter:
     def _resample(self, lm_idx: list[int], lm_obs: np.ndarray | None) -> None:
         """Systematic resampling of all but the fresh 5 %, a random walk, fresh particles."""
         pr = self.params
-        n = len(self._particles)
+        n = len(self.particles)
         n_new = int(round(pr.random_fraction * n))
         n_keep = n - n_new
         u0 = self.rng.random()
@@ -336,7 +313,7 @@ class ParticleFilter:
         grow = min(max(self.misfit, 1.0), pr.walk_max_growth)
         noise = self.rng.standard_normal((n_keep, 3))
         out = np.empty((n, 3))
-        kernels.resample_into(self._particles, self.weights, u0, noise, pr.walk_xy * grow,
+        kernels.resample_into(self.particles, self.weights, u0, noise, pr.walk_xy * grow,
                               pr.walk_theta * grow, out)
         fresh = out[n_keep:]
         # = self.rng.uniform(self._low, self._high, (n_new, 3)), bit for bit (numpy forms
@@ -344,7 +321,7 @@ class ParticleFilter:
         fresh[:] = self._low + self._range * self.rng.random((n_new, 3))
         if lm_idx and n_new > 1:
             self._seed_from_landmarks(fresh[:n_new // 2], lm_idx, lm_obs)
-        self._particles = out
+        self.particles = out
         self.weights = np.full(n, 1.0 / n)
 
     def _seed_from_landmarks(self, out: np.ndarray, lm_idx: list[int], lm_obs: np.ndarray) -> None:
