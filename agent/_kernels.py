@@ -9,30 +9,150 @@ stay with the caller's numpy generator.
 
 from __future__ import annotations
 
+import ctypes
 import math
 
 import numpy as np
 from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
+from numba.np.random import _constants as _zig
 
 from models.jit import njit
 
 TWO_PI = 2.0 * math.pi
 
 
+# Random draws: the particle filter's come from its numpy Generator's PCG64, stepped
+# here on the generator's own state, so they are the Generator's stream draw for draw
+# (numpy's ziggurat for normals, its Lemire method for integers) without a Python call
+# per batch. `gen` holds the addresses (PCG64 state, its next_uint32), see `bitgen_addresses`.
+
+_PCG64_MULT = (2549297995355413924 << 64) + 4865540595714422341  # PCG_DEFAULT_MULTIPLIER_128
+
+
+@intrinsic
+def _pcg64_next(typingctx, state):
+    """numpy's pcg64_next64 on the pcg64_state at address `state`: one 128-bit LCG step
+    (state * mult + inc), then the XSL-RR output (high ^ low, rotated right by the top
+    six bits of the state)."""
+    def codegen(context, builder, signature, args):
+        i128, i64 = ir.IntType(128), ir.IntType(64)
+        rng = builder.load(builder.inttoptr(args[0], i128.as_pointer().as_pointer()))  # -> {state, inc}
+        inc = builder.load(builder.gep(rng, [ir.Constant(ir.IntType(32), 1)]), align=8)
+        new = builder.add(builder.mul(builder.load(rng, align=8), ir.Constant(i128, _PCG64_MULT)), inc)
+        builder.store(new, rng, align=8)
+        x = builder.xor(builder.trunc(builder.lshr(new, ir.Constant(i128, 64)), i64), builder.trunc(new, i64))
+        rot = builder.trunc(builder.lshr(new, ir.Constant(i128, 122)), i64)
+        fshr = builder.module.declare_intrinsic("llvm.fshr", [i64], ir.FunctionType(i64, [i64] * 3))
+        return builder.call(fshr, [x, x, rot])
+    return types.uint64(types.intp), codegen
+
+
+@intrinsic
+def _call_uint32(typingctx, fn, state):
+    """The C function uint32_t fn(void *state) at address fn."""
+    def codegen(context, builder, signature, args):
+        void_p = ir.IntType(8).as_pointer()
+        f = builder.inttoptr(args[0], ir.FunctionType(ir.IntType(32), [void_p]).as_pointer())
+        return builder.call(f, [builder.inttoptr(args[1], void_p)])
+    return types.uint32(types.intp, types.intp), codegen
+
+
+# numpy's ziggurat tables for standard normal draws (numba's copy of numpy's
+# ziggurat_constants.h).
+_KI = np.array(_zig.ki_double, dtype=np.uint64)
+_WI = np.array(_zig.wi_double, dtype=np.float64)
+_FI = np.array(_zig.fi_double, dtype=np.float64)
+_ZIG_R = 3.6541528853610087963519472518
+_ZIG_INV_R = 0.27366123732975827203338247596
+
+
+def bitgen_addresses(rng: np.random.Generator) -> np.ndarray:
+    """The addresses (state, next_uint32) of rng's PCG64 bit generator."""
+    if not isinstance(rng.bit_generator, np.random.PCG64):
+        raise TypeError(f"the compiled draws step PCG64 only, not {type(rng.bit_generator).__name__}")
+    c = rng.bit_generator.ctypes
+    return np.array([c.state_address, ctypes.cast(c.next_uint32, ctypes.c_void_p).value], dtype=np.intp)
 
 
 @njit
-def predict_particles(p: np.ndarray, z: np.ndarray, ex: float, ey: float, et: float,
+def uniform_draw(st: int) -> float:
+    """`Generator.random()` of the PCG64 state at st: one draw in [0, 1) (pcg64_next_double)."""
+    return np.float64(_pcg64_next(st) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+
+@njit
+def normal_draw(st: int) -> float:
+    """`Generator.standard_normal()` of the PCG64 state at st: numpy's ziggurat
+    (random_standard_normal), step for step; the rare rejections in `_normal_rejected`."""
+    r = _pcg64_next(st)
+    idx = r & np.uint64(0xff)
+    r >>= np.uint64(8)
+    sign = r & np.uint64(1)
+    rabs = (r >> np.uint64(1)) & np.uint64(0x000fffffffffffff)
+    # x or -x, bit for bit, as a product: a branch on the sign's coin flip mispredicts
+    x = rabs * _WI[idx] * (1.0 - 2.0 * np.float64(sign))
+    if rabs < _KI[idx]:
+        return x
+    return _normal_rejected(st, idx, rabs, x)
+
+
+@njit
+def _normal_rejected(st: int, idx: int, rabs: int, x: float) -> float:
+    """The ziggurat's slow path for a first draw outside its box (idx, rabs, x), and its
+    further draws until one is accepted."""
+    while True:
+        if idx == 0:
+            while True:
+                xx = -_ZIG_INV_R * math.log1p(-uniform_draw(st))
+                yy = -math.log1p(-uniform_draw(st))
+                if yy + yy > xx * xx:
+                    if (rabs >> np.uint64(8)) & np.uint64(1):
+                        return -(_ZIG_R + xx)
+                    return _ZIG_R + xx
+        elif (_FI[idx - 1] - _FI[idx]) * uniform_draw(st) + _FI[idx] < math.exp(-0.5 * x * x):
+            return x
+        r = _pcg64_next(st)
+        idx = r & np.uint64(0xff)
+        r >>= np.uint64(8)
+        sign = r & np.uint64(1)
+        rabs = (r >> np.uint64(1)) & np.uint64(0x000fffffffffffff)
+        x = rabs * _WI[idx] * (1.0 - 2.0 * np.float64(sign))
+        if rabs < _KI[idx]:
+            return x
+
+
+@njit
+def integer_draw(gen: np.ndarray, low: int, high: int) -> int:
+    """`Generator.integers(low, high)` for 0 < high - low < 2^32: numpy's Lemire method on
+    32-bit draws (random_bounded_uint64_fill); no draw when high - low is 1."""
+    rng = np.uint64(high - low - 1)
+    if rng == 0:
+        return low
+    excl = rng + np.uint64(1)
+    m = np.uint64(_call_uint32(gen[1], gen[0])) * excl
+    left = m & np.uint64(0xFFFFFFFF)
+    if left < excl:
+        threshold = (np.uint64(0xFFFFFFFF) - rng) % excl
+        while left < threshold:
+            m = np.uint64(_call_uint32(gen[1], gen[0])) * excl
+            left = m & np.uint64(0xFFFFFFFF)
+    return low + np.int64(m >> np.uint64(32))
+
+
+@njit
+def predict_particles(p: np.ndarray, pose: np.ndarray, gen: np.ndarray, ex: float, ey: float, et: float,
                       nx: float, ny: float, nt: float) -> None:
     """Move particles p (n, 3: x, y, heading) in place by an odometry step (ex, ey, et)
-    (already scaled) perturbed by standard normal draws z (n, 3) times (nx, ny, nt);
-    headings wrapped into [-pi, pi)."""
+    (already scaled) perturbed by standard normal draws from gen (n rows of 3, as
+    `Generator.standard_normal((n, 3))`) times (nx, ny, nt), headings wrapped into
+    [-pi, pi); and the estimate pose (3,) by the step itself (`Pose2.to_world`, `wrap`)."""
+    st = gen[0]
     for i in range(p.shape[0]):
-        ddx = ex * (1.0 + nx * z[i, 0])
-        ddy = ey * (1.0 + ny * z[i, 1])
-        ddt = et * (1.0 + nt * z[i, 2])
+        ddx = ex * (1.0 + nx * normal_draw(st))
+        ddy = ey * (1.0 + ny * normal_draw(st))
+        ddt = et * (1.0 + nt * normal_draw(st))
         t = p[i, 2]
         c, s = math.cos(t), math.sin(t)
         p[i, 0] += c * ddx - s * ddy
@@ -41,6 +161,11 @@ def predict_particles(p: np.ndarray, z: np.ndarray, ex: float, ey: float, et: fl
         if not 0.0 <= a < TWO_PI:  # inside, a % TWO_PI is a itself (fmod is exact): skip it
             a = a % TWO_PI
         p[i, 2] = a - math.pi
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    x = pose[0] + c * ex - s * ey
+    y = pose[1] + s * ex + c * ey
+    pose[0], pose[1] = x, y
+    pose[2] = (pose[2] + et + math.pi) % TWO_PI - math.pi
 
 
 @intrinsic

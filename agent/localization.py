@@ -43,7 +43,7 @@ import numpy as np
 from agent import _kernels as kernels
 from agent.geometry import landmarks_in_team, lines_in_team
 from models import field
-from models.geometry import Pose2, wrap
+from models.geometry import wrap
 
 # UT Austin Villa's odometry factors (a, b, c) for x, y and turn, as shared/NAO.md
 # reads them from PFLocalization.cc: fitted to their walk's odometry.
@@ -94,6 +94,7 @@ class ParticleFilter:
     def __init__(self, side: str = "L", seed: int = 0, params: LocalizationParams | None = None) -> None:
         self.params = params or LocalizationParams()
         self.rng = np.random.default_rng(seed)
+        self._gen = kernels.bitgen_addresses(self.rng)  # the kernels draw from self.rng's PCG64
         self.side = side
         lm = landmarks_in_team(side)
         self._lm_names = {n: i for i, n in enumerate(lm)}
@@ -139,7 +140,6 @@ class ParticleFilter:
         self._range = self._high - self._low
         n_p = self.params.n_particles
         self.particles = np.zeros((n_p, 3))
-        self._z = np.empty((n_p, 3))  # odometry noise draws, refilled every predict
         self.weights = np.full(n_p, 1.0 / n_p)
         self._pose = np.zeros(3)
         self._spread = float("inf")
@@ -186,11 +186,9 @@ class ParticleFilter:
             return
         sx, sy, st = self.params.odometry_scale
         nx, ny, nt = self.params.odometry_noise
-        z = self._z
-        self.rng.standard_normal(out=z)
-        kernels.predict_particles(self.particles, z, sx * dx, sy * dy, st * dtheta, nx, ny, nt)
-        pose = Pose2(*(float(v) for v in self._pose))
-        self._pose = np.array([*pose.to_world(sx * dx, sy * dy), wrap(pose.heading + st * dtheta)])
+        # The noise: (n, 3) standard normal draws of self.rng, as rng.standard_normal((n, 3)).
+        kernels.predict_particles(self.particles, self._pose, self._gen, sx * dx, sy * dy, st * dtheta,
+                                  nx, ny, nt)
 
     # ------------------------------------------------------------ observations
 
