@@ -289,22 +289,73 @@ def landmark_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np
 
 
 @njit
-def resample_into(particles: np.ndarray, weights: np.ndarray, u0: float, noise: np.ndarray,
-                  walk_xy: float, walk_theta: float, out: np.ndarray) -> None:
-    """Systematic resampling of len(noise) particles into out[:len(noise)]: positions
-    (u0 + i) / len(noise) in the cumulative weights (its last entry set to 1), each drawn
-    particle plus its row of noise times (walk_xy, walk_xy, walk_theta). The array code
-    of `ParticleFilter._resample` in one pass."""
-    cum = np.cumsum(weights)
-    cum[-1] = 1.0
-    n_keep = noise.shape[0]
-    pos = (u0 + np.arange(n_keep)) * (1.0 / n_keep)
-    idx = np.searchsorted(cum, pos)
+def resample(particles: np.ndarray, weights: np.ndarray, gen: np.ndarray, n_new: int, walk_xy: float,
+             walk_theta: float, low: np.ndarray, span: np.ndarray, lm_xy: np.ndarray, lm_idx: np.ndarray,
+             landmarks: np.ndarray, sigma_theta: float, out: np.ndarray) -> None:
+    """`ParticleFilter._resample` into out (n, 3), then weights set to 1 / n; draws from gen
+    in the Generator calls' order: the systematic resampling's offset, a normal (x, y,
+    heading) step per kept particle, the fresh particles' uniform draws, the landmark
+    seeds' integers and heading noise.
+
+    Systematic resampling of n - n_new particles: positions (u0 + i) / (n - n_new) in the
+    cumulative weights (the last set to 1), found by one merge-like pass (the index
+    `np.searchsorted` gives on the nondecreasing sums), each drawn particle plus its
+    normal step times (walk_xy, walk_xy, walk_theta). The n_new fresh ones: uniform in
+    [low, low + span); the first n_new // 2 of them seeded from the landmarks seen
+    (`seed_poses`) when any (lm_idx >= 0) and n_new > 1.
+    """
+    st = gen[0]
+    n = particles.shape[0]
+    n_keep = n - n_new
+    u0 = uniform_draw(st)
+    step = 1.0 / n_keep
+    j = 0
+    cum = weights[0] if n > 1 else 1.0
     for i in range(n_keep):
-        r = idx[i]
-        out[i, 0] = particles[r, 0] + noise[i, 0] * walk_xy
-        out[i, 1] = particles[r, 1] + noise[i, 1] * walk_xy
-        out[i, 2] = particles[r, 2] + noise[i, 2] * walk_theta
+        pos = (u0 + i) * step
+        while cum < pos and j < n - 1:
+            j += 1
+            cum = 1.0 if j == n - 1 else cum + weights[j]
+        out[i, 0] = particles[j, 0] + normal_draw(st) * walk_xy
+        out[i, 1] = particles[j, 1] + normal_draw(st) * walk_xy
+        out[i, 2] = particles[j, 2] + normal_draw(st) * walk_theta
+    for i in range(n_keep, n):
+        for d in range(3):
+            out[i, d] = low[d] + span[d] * uniform_draw(st)
+    lm, obs = seen_landmarks(lm_xy, lm_idx, landmarks)
+    m = lm.shape[0]
+    if m and n_new > 1:
+        k = n_new // 2
+        a = np.empty(k, dtype=np.int64)
+        for r in range(k):
+            a[r] = integer_draw(gen, 0, m)
+        b = np.empty(k if m >= 2 else 0, dtype=np.int64)
+        z = np.empty(b.shape[0])
+        for r in range(b.shape[0]):
+            b[r] = (a[r] + integer_draw(gen, 1, m)) % m  # != a[r]
+        for r in range(b.shape[0]):
+            z[r] = normal_draw(st)
+        seed_poses(lm, obs, a, b, z, sigma_theta, out[n_keep:n_keep + k])
+    weights[:] = 1.0 / n
+
+
+@njit
+def seen_landmarks(lm_xy: np.ndarray, lm_idx: np.ndarray,
+                   landmarks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(k, 2) team-frame positions and (k, 2) level-frame observations of the landmarks seen:
+    rows of `landmarks` (m, 2+) whose lm_idx (m,) names a known landmark (>= 0) of lm_xy."""
+    k = 0
+    for r in range(lm_idx.shape[0]):
+        k += lm_idx[r] >= 0
+    lm = np.empty((k, 2))
+    obs = np.empty((k, 2))
+    k = 0
+    for r in range(lm_idx.shape[0]):
+        if lm_idx[r] >= 0:
+            lm[k, 0], lm[k, 1] = lm_xy[lm_idx[r], 0], lm_xy[lm_idx[r], 1]
+            obs[k, 0], obs[k, 1] = landmarks[r, 0], landmarks[r, 1]
+            k += 1
+    return lm, obs
 
 
 @njit
@@ -327,6 +378,213 @@ def seed_poses(lm: np.ndarray, obs: np.ndarray, i: np.ndarray, j: np.ndarray, z:
         out[r, 0] = lm[a, 0] - (c * obs[a, 0] - s * obs[a, 1])
         out[r, 1] = lm[a, 1] - (s * obs[a, 0] + c * obs[a, 1])
         out[r, 2] = theta
+
+
+@intrinsic
+def _fma64(typingctx, a, b, c):
+    """a * b + c in float64 with one rounding (LLVM's fma intrinsic)."""
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        f64 = ir.DoubleType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [f64], ir.FunctionType(f64, [f64] * 3))
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+@njit
+def _block_sum(a: np.ndarray, lo: int, n: int) -> float:
+    """Sum of a[lo:lo + n], n <= 128, as numpy's pairwise_sum forms a block: in turn
+    below 8 terms, else 8 running sums."""
+    if n < 8:
+        res = 0.0
+        for i in range(lo, lo + n):
+            res += a[i]
+        return res
+    r0, r1, r2, r3 = a[lo], a[lo + 1], a[lo + 2], a[lo + 3]
+    r4, r5, r6, r7 = a[lo + 4], a[lo + 5], a[lo + 6], a[lo + 7]
+    i = lo + 8
+    end = lo + n - n % 8
+    while i < end:
+        r0 += a[i]
+        r1 += a[i + 1]
+        r2 += a[i + 2]
+        r3 += a[i + 3]
+        r4 += a[i + 4]
+        r5 += a[i + 5]
+        r6 += a[i + 6]
+        r7 += a[i + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < lo + n:
+        res += a[i]
+        i += 1
+    return res
+
+
+@njit
+def _pairwise_sum(a: np.ndarray) -> float:
+    """np.sum of a contiguous float64 array in numpy's order (pairwise_sum: halves, cut at
+    a multiple of 8, down to blocks of up to 128). Its recursion is walked with an
+    explicit stack: numba cannot cache recursive functions."""
+    lo = np.empty(64, dtype=np.int64)  # per pending half: start, length, phase, left sum
+    size = np.empty(64, dtype=np.int64)
+    phase = np.empty(64, dtype=np.int64)
+    left = np.empty(64)
+    top = 0
+    lo[0], size[0], phase[0] = 0, a.shape[0], 0
+    res = 0.0
+    while top >= 0:
+        m = size[top]
+        if m <= 128:
+            res = _block_sum(a, lo[top], m)
+            top -= 1
+            continue
+        half = m // 2
+        half -= half % 8
+        if phase[top] == 0:  # first the left half
+            phase[top] = 1
+            lo[top + 1], size[top + 1], phase[top + 1] = lo[top], half, 0
+            top += 1
+        elif phase[top] == 1:  # the left half's sum is in res: now the right half
+            left[top] = res
+            phase[top] = 2
+            lo[top + 1], size[top + 1], phase[top + 1] = lo[top] + half, m - half, 0
+            top += 1
+        else:
+            res = left[top] + res
+            top -= 1
+    return res
+
+
+@njit
+def _dot(x: np.ndarray, y: np.ndarray) -> float:
+    """x @ y of contiguous float64 vectors as OpenBLAS's ddot forms it (its Haswell kernel,
+    which Zen runs too): 16 fused multiply-add lanes over the first n & -16 terms, summed
+    in the kernel's order, then the rest in turn."""
+    n = x.shape[0]
+    n1 = n & -16
+    acc = np.zeros(16)
+    for i in range(0, n1, 16):
+        for lane in range(16):
+            acc[lane] = _fma64(x[i + lane], y[i + lane], acc[lane])
+    dot = 0.0
+    if n1:
+        # Each 4-lane register: low half + high half; then (r4 + r5) + (r6 + r7); then across.
+        h0, h1 = acc[0] + acc[2], acc[1] + acc[3]
+        h2, h3 = acc[4] + acc[6], acc[5] + acc[7]
+        h4, h5 = acc[8] + acc[10], acc[9] + acc[11]
+        h6, h7 = acc[12] + acc[14], acc[13] + acc[15]
+        dot = ((h0 + h2) + (h4 + h6)) + ((h1 + h3) + (h5 + h7))
+    for i in range(n1, n):
+        dot += y[i] * x[i]
+    return dot
+
+
+@njit
+def _dot_column(w: np.ndarray, p: np.ndarray, col: int) -> float:
+    """w @ p[:, col] as OpenBLAS's ddot forms it for a strided vector: two running sums of
+    pairs of products four terms at a time, the rest in turn into the first."""
+    n = w.shape[0]
+    t1 = t2 = 0.0
+    n1 = n & -4
+    for i in range(0, n1, 4):
+        t1 += w[i] * p[i, col] + w[i + 2] * p[i + 2, col]
+        t2 += w[i + 1] * p[i + 1, col] + w[i + 3] * p[i + 3, col]
+    for i in range(n1, n):
+        t1 += w[i] * p[i, col]
+    return t1 + t2
+
+
+@njit
+def observation_log_likelihood(p: np.ndarray, c: np.ndarray, s: np.ndarray, lm_xy: np.ndarray,
+                               lm_idx: np.ndarray, landmarks: np.ndarray, lines: np.ndarray, line_count: int,
+                               min_length: float, circle_piece: float, w_lines: np.ndarray,
+                               len_lines: np.ndarray, w_straight: np.ndarray, len_straight: np.ndarray,
+                               sigma_distance: float, sigma_distance_rel: float, k_bearing: float,
+                               inv_line_distance: float, sigma_line_ratio: float, ll: np.ndarray,
+                               tmp: np.ndarray) -> int:
+    """ll (n,) = `ParticleFilter.log_likelihood` of particles p (n, 3) with heading cosines c
+    and sines s, for the landmarks seen (`seen_landmarks`) and the line_count longest
+    observed lines (lines (l, 2, 2+), level frame) at least min_length long, against the
+    known lines' rows and lengths (only the straight ones when every line used is longer
+    than circle_piece); tmp (n,) is scratch. Returns the number of lines used.
+
+    Lines of equal length are taken in their order in `lines` (np.argsort on distinct lengths)."""
+    lm, obs = seen_landmarks(lm_xy, lm_idx, landmarks)
+    k = lm.shape[0]
+    n_lines = lines.shape[0]
+    length = np.empty(n_lines)
+    for i in range(n_lines):
+        length[i] = math.hypot(lines[i, 1, 0] - lines[i, 0, 0], lines[i, 1, 1] - lines[i, 0, 1])
+    chosen = np.empty(min(line_count, n_lines), dtype=np.int64)
+    used = np.zeros(n_lines, dtype=np.bool_)
+    n_used = 0
+    for _ in range(chosen.shape[0]):
+        best = -1
+        for i in range(n_lines):
+            if not used[i] and (best < 0 or length[i] > length[best]):
+                best = i
+        if not length[best] >= min_length:
+            break
+        used[best] = True
+        chosen[n_used] = best
+        n_used += 1
+    px, py = p[:, 0], p[:, 1]
+    if k:
+        r_obs = np.empty(k)
+        w_dist = np.empty(k)
+        for j in range(k):
+            r_obs[j] = math.hypot(obs[j, 0], obs[j, 1])
+            w_dist[j] = 1.0 / (sigma_distance + sigma_distance_rel * r_obs[j])
+        landmark_log_likelihood(px, py, c, s, lm, obs, r_obs, w_dist, k_bearing, ll)
+    else:
+        ll[:] = 0.0
+    if n_used:
+        seg = np.empty((n_used, 2, 2))
+        seg_len = np.empty(n_used)
+        shortest = math.inf
+        for l in range(n_used):
+            i = chosen[l]
+            for e in range(2):
+                seg[l, e, 0], seg[l, e, 1] = lines[i, e, 0], lines[i, e, 1]
+            seg_len[l] = length[i]
+            shortest = min(shortest, length[i])
+        if shortest > circle_piece:
+            w_known, len_known = w_straight, len_straight
+        else:
+            w_known, len_known = w_lines, len_lines
+        line_log_likelihood(px, py, c, s, seg, seg_len, w_known, len_known, inv_line_distance,
+                            sigma_line_ratio, tmp)
+        for i in range(ll.shape[0]):
+            ll[i] += tmp[i]
+    return n_used
+
+
+@njit
+def weigh(p: np.ndarray, ll: np.ndarray, c: np.ndarray, s: np.ndarray, w: np.ndarray, pose: np.ndarray,
+          tmp: np.ndarray) -> tuple[float, float]:
+    """From log-likelihoods ll (n,) of particles p (n, 3) with heading cosines c and sines s:
+    the normalized weights w (n,), the weighted mean pose (3,) (x, y, circular mean
+    heading) and returns (the best log-likelihood, the weighted standard deviation of the
+    positions around the mean, m). The array code of `ParticleFilter.update` (np.max,
+    np.exp, np.sum, the BLAS dot products) in one pass each; tmp (n,) is scratch."""
+    n = p.shape[0]
+    best = ll[0]
+    for i in range(1, n):
+        best = ll[i] if ll[i] > best else best
+    for i in range(n):
+        w[i] = math.exp(ll[i] - best)
+    inv = 1.0 / _pairwise_sum(w)
+    for i in range(n):
+        w[i] *= inv
+    x, y = _dot_column(w, p, 0), _dot_column(w, p, 1)
+    pose[0], pose[1], pose[2] = x, y, math.atan2(_dot(w, s), _dot(w, c))
+    for i in range(n):
+        dx, dy = p[i, 0] - x, p[i, 1] - y
+        tmp[i] = dx * dx + dy * dy
+    return best, math.sqrt(_dot(w, tmp))
 
 
 @njit

@@ -52,8 +52,6 @@ UT_ODOMETRY_FACTORS = (0.8, 0.3, 0.2)
 # walk reports, 10 s of walking forward, sideways and turning, mean over types 0-4
 # (forward 0.85-1.03 by type, sideways 0.91-1.00; the turn comes from the gyro: 1.00-1.04).
 WALK_ODOMETRY_FACTORS = (0.94, 0.95, 1.0)
-_NO_PAIRS = np.zeros(0, dtype=np.int64)  # seed_poses with one landmark: no second ones ...
-_NO_DRAWS = np.zeros(0)  # ... and no heading noise
 
 
 @dataclass
@@ -140,6 +138,11 @@ class ParticleFilter:
         self._range = self._high - self._low
         n_p = self.params.n_particles
         self.particles = np.zeros((n_p, 3))
+        self._spare = np.zeros((n_p, 3))  # the next resampling's output; then they swap
+        self._c, self._s = np.empty(n_p), np.empty(n_p)  # particle heading cosines, sines
+        self._ll, self._tmp = np.empty(n_p), np.empty(n_p)  # log-likelihoods, scratch
+        self._no_lines = np.zeros((0, 2, 2))
+        self._no_landmarks = np.zeros((0, 2))
         self.weights = np.full(n_p, 1.0 / n_p)
         self._pose = np.zeros(3)
         self._spread = float("inf")
@@ -192,23 +195,27 @@ class ParticleFilter:
 
     # ------------------------------------------------------------ observations
 
-    def _select(self, landmark_names, landmarks, lines):
-        """(landmark indices, their (k, 2) level-frame observations, the K longest usable
-        observed lines (K, 2, 2) and their lengths)."""
+    def _observed(self, particles: np.ndarray, c: np.ndarray, s: np.ndarray,
+                  landmark_names: tuple[str, ...] | list[str], landmarks: np.ndarray, lines: np.ndarray,
+                  ll: np.ndarray, tmp: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+        """Fill ll with the log-likelihood of the observations for particles (n, 3) with
+        heading cosines c and sines s (tmp: scratch, (n,)); return the landmark indices
+        (-1 for unknown names), the landmarks as a float array and the number of lines used."""
         pr = self.params
-        pairs = [(self._lm_names[n], i) for i, n in enumerate(landmark_names) if n in self._lm_names]
-        lm_idx = [p[0] for p in pairs]
-        lm_obs = np.asarray(landmarks, dtype=float)[[p[1] for p in pairs], :2] if pairs else None
+        get = self._lm_names.get
+        lm_idx = np.array([get(name, -1) for name in landmark_names], dtype=np.int64)
+        landmarks = np.asarray(landmarks, dtype=float)
         lines = np.asarray(lines, dtype=float)
-        seg = length = None
-        if lines.size:
-            seg = lines[:, :, :2]
-            d = seg[:, 1] - seg[:, 0]
-            length = np.hypot(d[:, 0], d[:, 1])
-            order = np.argsort(-length)[:pr.line_count]
-            order = order[length[order] >= pr.min_line_length]
-            seg, length = (seg[order], length[order]) if len(order) else (None, None)
-        return lm_idx, lm_obs, seg, length
+        if lines.ndim != 3:  # no lines, in any shape
+            lines = self._no_lines
+        if not len(lm_idx):
+            landmarks = self._no_landmarks
+        n_lines = kernels.observation_log_likelihood(
+            particles, c, s, self._lm_xy, lm_idx, landmarks, lines, pr.line_count, pr.min_line_length,
+            self._circle_piece, self._line_w, self._line_len, self._line_w_straight, self._line_len_straight,
+            pr.sigma_distance, pr.sigma_distance_rel, 1.0 / pr.sigma_bearing ** 2,
+            1.0 / pr.sigma_line_distance, pr.sigma_line_ratio, ll, tmp)
+        return lm_idx, landmarks, n_lines
 
     def log_likelihood(self, particles: np.ndarray, landmark_names: tuple[str, ...] | list[str],
                        landmarks: np.ndarray, lines: np.ndarray) -> np.ndarray:
@@ -216,57 +223,19 @@ class ParticleFilter:
 
         landmarks: (k, 2+) level-frame positions (m) of the named landmarks;
         lines: (l, 2, 2+) level-frame end points (m) of observed field lines.
-        """
-        lm_idx, lm_obs, seg, length = self._select(landmark_names, landmarks, lines)
-        t = particles[:, 2]
-        return self._log_likelihood(particles, np.cos(t), np.sin(t), lm_idx, lm_obs, seg, length)
 
-    def _log_likelihood(self, particles, c, s, lm_idx, lm_obs, seg, length) -> np.ndarray:
-        pr = self.params
-        ll = np.zeros(len(particles))
-        if lm_idx:
-            obs = lm_obs
-            r_obs = np.hypot(obs[:, 0], obs[:, 1])
-            # Per particle and landmark: the distance error over its sigma, squared, and
-            # the bearing error d through its chord: 2 - 2 cos d = (2 sin(d / 2))^2 ~ d^2,
-            # with cos d the cosine between the expected offset and the observed one
-            # turned into the team frame by the particle's heading (no arctan2, no
-            # wrapping). Compiled, bit for bit the array code it replaced.
-            kernels.landmark_log_likelihood(
-                particles[:, 0], particles[:, 1], c, s, self._lm_xy[lm_idx], obs, r_obs,
-                1.0 / (pr.sigma_distance + pr.sigma_distance_rel * r_obs), 1.0 / pr.sigma_bearing ** 2, ll)
-        if seg is not None:
-            ll += self._line_log_likelihood(particles, c, s, seg, length)
+        Per particle and landmark: Gaussians over the distance error and the bearing
+        error (the latter through its chord, 2 - 2 cos d ~ d^2); per observed line (the
+        line_count longest), the best match over the known lines (see
+        `kernels.line_log_likelihood`): the midpoint's distance from the known line, how
+        far its end points reach past the known segment's ends, the acute angle between
+        the lines and the excess of the length ratio over 1. Observed lines too long to
+        be a piece of the center circle are matched against the straight lines only.
+        """
+        p = np.ascontiguousarray(particles, dtype=float)
+        ll, tmp = np.empty(len(p)), np.empty(len(p))
+        self._observed(p, np.cos(p[:, 2]), np.sin(p[:, 2]), landmark_names, landmarks, lines, ll, tmp)
         return ll
-
-    def _line_log_likelihood(self, particles: np.ndarray, c: np.ndarray, s: np.ndarray, seg: np.ndarray,
-                             length: np.ndarray) -> np.ndarray:
-        """Sum over observed lines (K, 2, 2) of the best match's log-similarity, per particle.
-
-        For each particle, observed line and known line: the distance of the observed
-        line's midpoint from the known line, how far its end points (midpoint +- half
-        its length along the known line) reach past the known segment's ends, the
-        acute angle between the lines (as sin^2, which has the period pi of undirected
-        lines) and the excess of the length ratio over 1. Every projection is linear
-        in the particle features (1, x, y, cos t, sin t, cos 2t, sin 2t), so one
-        float32 matrix product gives all of them for all (known line, observed line,
-        particle) triples; only squares, a clip and a minimum remain. Observed lines
-        too long to be a piece of the center circle are matched against the straight
-        lines only.
-        """
-        pr = self.params
-        if length.min() > self._circle_piece:
-            w_all, known_len = self._line_w_straight, self._line_len_straight
-        else:
-            w_all, known_len = self._line_w, self._line_len
-        # Compiled, bit for bit the array code it replaced (per observed line the matrix
-        # mapping particle features to projections, an einsum; the float32 features;
-        # b @ q and ten temporaries of 3 m k n floats: 0.6 ms a frame, more when BLAS
-        # threads waited for a busy core), in about 0.06 ms.
-        out = np.empty(len(particles))
-        kernels.line_log_likelihood(particles[:, 0], particles[:, 1], c, s, seg, length, w_all, known_len,
-                                    1.0 / pr.sigma_line_distance, pr.sigma_line_ratio, out)
-        return out
 
     def update(self, landmark_names: tuple[str, ...] | list[str], landmarks: np.ndarray,
                lines: np.ndarray) -> bool:
@@ -276,67 +245,36 @@ class ParticleFilter:
         (l, 2, 2+) level-frame end points (m) of observed field lines. Returns False
         (and changes nothing) when neither a landmark nor a usable line was seen.
         """
-        lm_idx, lm_obs, seg, length = self._select(landmark_names, landmarks, lines)
-        self.last_update_seen = bool(lm_idx) or seg is not None
+        p, c, s = self.particles, self._c, self._s
+        np.cos(p[:, 2], out=c)
+        np.sin(p[:, 2], out=s)
+        lm_idx, landmarks, n_lines = self._observed(p, c, s, landmark_names, landmarks, lines, self._ll,
+                                                    self._tmp)
+        n_landmarks = int((lm_idx >= 0).sum())
+        self.last_update_seen = n_landmarks > 0 or n_lines > 0
         if not self.last_update_seen:
             return False
-        p = self.particles
-        c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
-        ll = self._log_likelihood(p, c, s, lm_idx, lm_obs, seg, length)
-        n_terms = 2 * len(lm_idx) + (0 if seg is None else 3 * len(seg))
-        best = float(ll.max())
+        best, self._spread = kernels.weigh(p, self._ll, c, s, self.weights, self._pose, self._tmp)
         # Misfit of the best particle, in standard deviations per measured quantity.
-        self.misfit = math.sqrt(max(0.0, -2.0 * best) / n_terms)
-        w = np.exp(ll - best)
-        w *= 1.0 / w.sum()
-        self.weights = w
-        x, y = w @ p[:, 0], w @ p[:, 1]
-        self._pose = np.array([x, y, math.atan2(w @ s, w @ c)])
-        dx, dy = p[:, 0] - x, p[:, 1] - y
-        self._spread = float(math.sqrt(w @ (dx * dx + dy * dy)))
-        self._resample(lm_idx, lm_obs)
+        self.misfit = math.sqrt(max(0.0, -2.0 * best) / (2 * n_landmarks + 3 * n_lines))
+        self._resample(lm_idx, landmarks)
         return True
 
     # -------------------------------------------------------------- resampling
 
-    def _resample(self, lm_idx: list[int], lm_obs: np.ndarray | None) -> None:
-        """Systematic resampling of all but the fresh 5 %, a random walk, fresh particles."""
+    def _resample(self, lm_idx: np.ndarray, landmarks: np.ndarray) -> None:
+        """Systematic resampling of all but the fresh 5 %, a random walk, fresh particles
+        (half of them seeded from the landmarks seen); see `kernels.resample`."""
         pr = self.params
         n = len(self.particles)
-        n_new = int(round(pr.random_fraction * n))
-        n_keep = n - n_new
-        u0 = self.rng.random()
         # The random walk grows when even the best particle fits badly (the cloud has
         # collapsed next to the truth rather than on it) and shrinks back when it fits.
         grow = min(max(self.misfit, 1.0), pr.walk_max_growth)
-        noise = self.rng.standard_normal((n_keep, 3))
-        out = np.empty((n, 3))
-        kernels.resample_into(self.particles, self.weights, u0, noise, pr.walk_xy * grow,
-                              pr.walk_theta * grow, out)
-        fresh = out[n_keep:]
-        # = self.rng.uniform(self._low, self._high, (n_new, 3)), bit for bit (numpy forms
-        # low + (high - low) * the same draws), without its broadcasting machinery.
-        fresh[:] = self._low + self._range * self.rng.random((n_new, 3))
-        if lm_idx and n_new > 1:
-            self._seed_from_landmarks(fresh[:n_new // 2], lm_idx, lm_obs)
-        self.particles = out
-        self.weights = np.full(n, 1.0 / n)
-
-    def _seed_from_landmarks(self, out: np.ndarray, lm_idx: list[int], lm_obs: np.ndarray) -> None:
-        """Sensor resetting: fill `out` (k, 3) with poses that explain the landmark
-        observations. With two or more landmarks in view each pose comes from a random
-        pair (heading from the direction between the two, position from the first);
-        with one, the heading is random and the position puts the landmark where it
-        was seen."""
-        pr = self.params
-        k = len(out)
-        lm = self._lm_xy[np.asarray(lm_idx)]
-        i = self.rng.integers(len(lm_idx), size=k)
-        j, z = _NO_PAIRS, _NO_DRAWS
-        if len(lm_idx) >= 2:
-            j = (i + self.rng.integers(1, len(lm_idx), size=k)) % len(lm_idx)  # j != i
-            z = self.rng.standard_normal(k)
-        kernels.seed_poses(lm, lm_obs, i, j, z, pr.seed_sigma_theta, out)
+        out = self._spare
+        kernels.resample(self.particles, self.weights, self._gen, int(round(pr.random_fraction * n)),
+                         pr.walk_xy * grow, pr.walk_theta * grow, self._low, self._range, self._lm_xy, lm_idx,
+                         landmarks, pr.seed_sigma_theta, out)
+        self._spare, self.particles = self.particles, out
 
     # ---------------------------------------------------------------- estimate
 
