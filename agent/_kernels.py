@@ -216,6 +216,22 @@ def line_scores(b: np.ndarray, q: np.ndarray, m: int, k: int, reach: np.ndarray,
             a0, a1, a2, a3, a4, a5, a6 = b[ra, 0], b[ra, 1], b[ra, 2], b[ra, 3], b[ra, 4], b[ra, 5], b[ra, 6]
             p0, p1, p2, p3, p4, p5, p6 = b[rp, 0], b[rp, 1], b[rp, 2], b[rp, 3], b[rp, 4], b[rp, 5], b[rp, 6]
             s0, s1, s2, s3, s4, s5, s6 = b[rs, 0], b[rs, 1], b[rs, 2], b[rs, 3], b[rs, 4], b[rs, 5], b[rs, 6]
+            if a5 == 0 and a6 == 0 and p5 == 0 and p6 == 0 and s1 == 0 and s2 == 0 and s3 == 0 and s4 == 0:
+                # ParticleFilter's rows: position rows see features 0-4, angle rows 0, 5 and 6;
+                # with q0 = 1 the chains skip the zero terms (they add nothing but the
+                # sign of a zero, which abs and the squares drop).
+                for i in range(n):
+                    q1, q2, q3, q4, q5, q6 = q[1, i], q[2, i], q[3, i], q[4, i], q[5, i], q[6, i]
+                    a = _fma32(a4, q4, _fma32(a3, q3, _fma32(a2, q2, _fma32(a1, q1, a0))))
+                    p = _fma32(p4, q4, _fma32(p3, q3, _fma32(p2, q2, _fma32(p1, q1, p0))))
+                    s = _fma32(s6, q6, _fma32(s5, q5, s0))
+                    a = np.float32(np.float64(abs(a)) + rj)
+                    a = a if a > zero else zero
+                    s = s + a * a
+                    s = s + p * p
+                    s = np.float32(np.float64(s) + r2)
+                    best[i] = s if s < best[i] else best[i]
+                continue
             for i in range(n):
                 q0, q1, q2, q3, q4, q5, q6 = q[0, i], q[1, i], q[2, i], q[3, i], q[4, i], q[5, i], q[6, i]
                 a = _fma32(a6, q6, _fma32(a5, q5, _fma32(a4, q4, _fma32(a3, q3, _fma32(
@@ -504,14 +520,16 @@ def observation_log_likelihood(p: np.ndarray, c: np.ndarray, s: np.ndarray, lm_x
                                len_lines: np.ndarray, w_straight: np.ndarray, len_straight: np.ndarray,
                                sigma_distance: float, sigma_distance_rel: float, k_bearing: float,
                                inv_line_distance: float, sigma_line_ratio: float, ll: np.ndarray,
-                               tmp: np.ndarray) -> int:
-    """ll (n,) = `ParticleFilter.log_likelihood` of particles p (n, 3) with heading cosines c
-    and sines s, for the landmarks seen (`seen_landmarks`) and the line_count longest
+                               tmp: np.ndarray) -> tuple[int, int]:
+    """ll (n,) = `ParticleFilter.log_likelihood` of particles p (n, 3), whose heading cosines
+    and sines go into c and s, for the landmarks seen (`seen_landmarks`) and the line_count longest
     observed lines (lines (l, 2, 2+), level frame) at least min_length long, against the
     known lines' rows and lengths (only the straight ones when every line used is longer
-    than circle_piece); tmp (n,) is scratch. Returns the number of lines used.
+    than circle_piece); tmp (n,) is scratch. Returns the numbers of landmarks and lines used.
 
     Lines of equal length are taken in their order in `lines` (np.argsort on distinct lengths)."""
+    for i in range(p.shape[0]):
+        c[i], s[i] = math.cos(p[i, 2]), math.sin(p[i, 2])
     lm, obs = seen_landmarks(lm_xy, lm_idx, landmarks)
     k = lm.shape[0]
     n_lines = lines.shape[0]
@@ -559,7 +577,7 @@ def observation_log_likelihood(p: np.ndarray, c: np.ndarray, s: np.ndarray, lm_x
                             sigma_line_ratio, tmp)
         for i in range(ll.shape[0]):
             ll[i] += tmp[i]
-    return n_used
+    return k, n_used
 
 
 @njit

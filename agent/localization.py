@@ -92,7 +92,7 @@ class ParticleFilter:
     def __init__(self, side: str = "L", seed: int = 0, params: LocalizationParams | None = None) -> None:
         self.params = params or LocalizationParams()
         self.rng = np.random.default_rng(seed)
-        self._gen = kernels.bitgen_addresses(self.rng)  # the kernels draw from self.rng's PCG64
+        self._gen = kernels.bitgen_addresses(self.rng)  # see _draws
         self.side = side
         lm = landmarks_in_team(side)
         self._lm_names = {n: i for i, n in enumerate(lm)}
@@ -180,6 +180,13 @@ class ParticleFilter:
         self._pose = np.array([x, y, float(wrap(theta))])  # until the next update weighs them
         self._spread = sigma_xy
 
+    def _draws(self) -> np.ndarray:
+        """The addresses through which the kernels draw from self.rng's PCG64, found anew
+        when its state has moved (a copied or unpickled filter has a new generator)."""
+        if self._gen[0] != self.rng.bit_generator.ctypes.state_address:
+            self._gen = kernels.bitgen_addresses(self.rng)
+        return self._gen
+
     # ---------------------------------------------------------------- odometry
 
     def predict(self, dx: float, dy: float, dtheta: float) -> None:
@@ -190,17 +197,18 @@ class ParticleFilter:
         sx, sy, st = self.params.odometry_scale
         nx, ny, nt = self.params.odometry_noise
         # The noise: (n, 3) standard normal draws of self.rng, as rng.standard_normal((n, 3)).
-        kernels.predict_particles(self.particles, self._pose, self._gen, sx * dx, sy * dy, st * dtheta,
+        kernels.predict_particles(self.particles, self._pose, self._draws(), sx * dx, sy * dy, st * dtheta,
                                   nx, ny, nt)
 
     # ------------------------------------------------------------ observations
 
-    def _observed(self, particles: np.ndarray, c: np.ndarray, s: np.ndarray,
-                  landmark_names: tuple[str, ...] | list[str], landmarks: np.ndarray, lines: np.ndarray,
-                  ll: np.ndarray, tmp: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
-        """Fill ll with the log-likelihood of the observations for particles (n, 3) with
-        heading cosines c and sines s (tmp: scratch, (n,)); return the landmark indices
-        (-1 for unknown names), the landmarks as a float array and the number of lines used."""
+    def _observed(self, particles: np.ndarray, landmark_names: tuple[str, ...] | list[str],
+                  landmarks: np.ndarray, lines: np.ndarray, c: np.ndarray, s: np.ndarray, ll: np.ndarray,
+                  tmp: np.ndarray) -> tuple[np.ndarray, np.ndarray, int, int]:
+        """Fill ll with the log-likelihood of the observations for particles (n, 3), c and s
+        with their heading cosines and sines (tmp: scratch, (n,)); return the landmark
+        indices (-1 for unknown names), the landmarks as a float array and the numbers of
+        landmarks and lines used."""
         pr = self.params
         get = self._lm_names.get
         lm_idx = np.array([get(name, -1) for name in landmark_names], dtype=np.int64)
@@ -210,12 +218,12 @@ class ParticleFilter:
             lines = self._no_lines
         if not len(lm_idx):
             landmarks = self._no_landmarks
-        n_lines = kernels.observation_log_likelihood(
+        n_landmarks, n_lines = kernels.observation_log_likelihood(
             particles, c, s, self._lm_xy, lm_idx, landmarks, lines, pr.line_count, pr.min_line_length,
             self._circle_piece, self._line_w, self._line_len, self._line_w_straight, self._line_len_straight,
             pr.sigma_distance, pr.sigma_distance_rel, 1.0 / pr.sigma_bearing ** 2,
             1.0 / pr.sigma_line_distance, pr.sigma_line_ratio, ll, tmp)
-        return lm_idx, landmarks, n_lines
+        return lm_idx, landmarks, n_landmarks, n_lines
 
     def log_likelihood(self, particles: np.ndarray, landmark_names: tuple[str, ...] | list[str],
                        landmarks: np.ndarray, lines: np.ndarray) -> np.ndarray:
@@ -233,8 +241,8 @@ class ParticleFilter:
         be a piece of the center circle are matched against the straight lines only.
         """
         p = np.ascontiguousarray(particles, dtype=float)
-        ll, tmp = np.empty(len(p)), np.empty(len(p))
-        self._observed(p, np.cos(p[:, 2]), np.sin(p[:, 2]), landmark_names, landmarks, lines, ll, tmp)
+        c, s, ll, tmp = np.empty(len(p)), np.empty(len(p)), np.empty(len(p)), np.empty(len(p))
+        self._observed(p, landmark_names, landmarks, lines, c, s, ll, tmp)
         return ll
 
     def update(self, landmark_names: tuple[str, ...] | list[str], landmarks: np.ndarray,
@@ -246,11 +254,8 @@ class ParticleFilter:
         (and changes nothing) when neither a landmark nor a usable line was seen.
         """
         p, c, s = self.particles, self._c, self._s
-        np.cos(p[:, 2], out=c)
-        np.sin(p[:, 2], out=s)
-        lm_idx, landmarks, n_lines = self._observed(p, c, s, landmark_names, landmarks, lines, self._ll,
-                                                    self._tmp)
-        n_landmarks = int((lm_idx >= 0).sum())
+        lm_idx, landmarks, n_landmarks, n_lines = self._observed(p, landmark_names, landmarks, lines, c, s,
+                                                                 self._ll, self._tmp)
         self.last_update_seen = n_landmarks > 0 or n_lines > 0
         if not self.last_update_seen:
             return False
@@ -271,7 +276,7 @@ class ParticleFilter:
         # collapsed next to the truth rather than on it) and shrinks back when it fits.
         grow = min(max(self.misfit, 1.0), pr.walk_max_growth)
         out = self._spare
-        kernels.resample(self.particles, self.weights, self._gen, int(round(pr.random_fraction * n)),
+        kernels.resample(self.particles, self.weights, self._draws(), int(round(pr.random_fraction * n)),
                          pr.walk_xy * grow, pr.walk_theta * grow, self._low, self._range, self._lm_xy, lm_idx,
                          landmarks, pr.seed_sigma_theta, out)
         self._spare, self.particles = self.particles, out
