@@ -278,17 +278,49 @@ def _row_sum(a: np.ndarray, n: int) -> float:
     return res
 
 
+@intrinsic
+def _fdiv(typingctx, a, b):
+    """a / b in float64, IEEE (inf or nan for b = 0) rather than numba's ZeroDivisionError
+    check, whose branch keeps loops from vectorizing."""
+    def codegen(context, builder, signature, args):
+        return builder.fdiv(*args)
+
+    return types.float64(types.float64, types.float64), codegen
+
+
 @njit
-def landmark_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.ndarray,
-                            lm: np.ndarray, obs: np.ndarray, r_obs: np.ndarray, w_dist: np.ndarray,
-                            k_bearing: float, out: np.ndarray) -> None:
+def landmark_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.ndarray, lm: np.ndarray,
+                            obs: np.ndarray, r_obs: np.ndarray, w_dist: np.ndarray, k_bearing: float,
+                            out: np.ndarray) -> None:
     """out[i] = -0.5 sum_j (distance error_ij w_dist_j)^2 + (2 - 2 cos bearing error_ij) k_bearing
-    for particles (px, py, heading with cosine c and sine s) and k landmarks at lm (k, 2)
-    seen at obs (k, 2) (level frame; r_obs their distances): the array code of
-    `ParticleFilter._log_likelihood` (its (n, k) temporaries and row sums) per particle."""
+    for particles at (px, py) (contiguous; heading cosines c, sines s) and k landmarks at
+    lm (k, 2) seen at obs (k, 2) (level frame; r_obs their distances): the array code of
+    the filter's first version (its (n, k) temporaries and row sums), bit for bit. Below
+    8 landmarks (numpy sums such rows in turn) one pass per landmark over all particles,
+    which vectorizes (`_fdiv`); from 8 on, per particle with numpy's row sum."""
     k = lm.shape[0]
+    n = px.shape[0]
+    if k < 8:
+        for i in range(n):
+            out[i] = 0.0
+        for j in range(k):
+            lx, ly, ox, oy, r, wd = lm[j, 0], lm[j, 1], obs[j, 0], obs[j, 1], r_obs[j], w_dist[j]
+            for i in range(n):
+                ex = lx - px[i]
+                ey = ly - py[i]
+                r_exp = math.sqrt(ex * ex + ey * ey)
+                cos_d = ex * (c[i] * ox - s[i] * oy)
+                cos_d += ey * (s[i] * ox + c[i] * oy)
+                cos_d = _fdiv(cos_d, r_exp * r + 1e-9)
+                d = (r_exp - r) * wd
+                d *= d
+                d += (2.0 - 2.0 * cos_d) * k_bearing
+                out[i] += d
+        for i in range(n):
+            out[i] = 0.0 - 0.5 * out[i]
+        return
     dr = np.empty(k)
-    for i in range(px.shape[0]):
+    for i in range(n):
         x, y, cc, ss = px[i], py[i], c[i], s[i]
         for j in range(k):
             ex = lm[j, 0] - x
@@ -549,7 +581,7 @@ def observation_log_likelihood(p: np.ndarray, c: np.ndarray, s: np.ndarray, lm_x
         used[best] = True
         chosen[n_used] = best
         n_used += 1
-    px, py = p[:, 0], p[:, 1]
+    px, py = np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1])
     if k:
         r_obs = np.empty(k)
         w_dist = np.empty(k)
