@@ -66,10 +66,18 @@ class TiltEstimator:
         """Estimated roll (rad)."""
         return float(self._st[kernels.T_ROLL])
 
+    @roll.setter
+    def roll(self, value: float) -> None:
+        self._st[kernels.T_ROLL] = value
+
     @property
     def pitch(self) -> float:
         """Estimated pitch (rad, forward positive)."""
         return float(self._st[kernels.T_PITCH])
+
+    @pitch.setter
+    def pitch(self, value: float) -> None:
+        self._st[kernels.T_PITCH] = value
 
     @property
     def _a(self) -> list[float]:
