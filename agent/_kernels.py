@@ -428,19 +428,6 @@ def seed_poses(lm: np.ndarray, obs: np.ndarray, i: np.ndarray, j: np.ndarray, z:
         out[r, 2] = theta
 
 
-@intrinsic
-def _fma64(typingctx, a, b, c):
-    """a * b + c in float64 with one rounding (LLVM's fma intrinsic)."""
-    sig = types.float64(types.float64, types.float64, types.float64)
-
-    def codegen(context, builder, signature, args):
-        f64 = ir.DoubleType()
-        fn = builder.module.declare_intrinsic("llvm.fma", [f64], ir.FunctionType(f64, [f64] * 3))
-        return builder.call(fn, args)
-
-    return sig, codegen
-
-
 @njit
 def _block_sum(a: np.ndarray, lo: int, n: int) -> float:
     """Sum of a[lo:lo + n], n <= 128, as numpy's pairwise_sum forms a block: in turn
@@ -635,6 +622,25 @@ def weigh(p: np.ndarray, ll: np.ndarray, c: np.ndarray, s: np.ndarray, w: np.nda
         dx, dy = p[i, 0] - x, p[i, 1] - y
         tmp[i] = dx * dx + dy * dy
     return best, math.sqrt(_dot(w, tmp))
+
+
+@njit
+def weigh_and_resample(p: np.ndarray, ll: np.ndarray, c: np.ndarray, s: np.ndarray, w: np.ndarray,
+                       pose: np.ndarray, tmp: np.ndarray, n_terms: int, gen: np.ndarray, n_new: int,
+                       walk_xy: float, walk_theta: float, walk_max_growth: float, low: np.ndarray,
+                       span: np.ndarray, lm_xy: np.ndarray, lm_idx: np.ndarray, landmarks: np.ndarray,
+                       sigma_theta: float, out: np.ndarray) -> tuple[float, float]:
+    """`weigh`, then `resample` into out with the random walk grown by the misfit (the
+    best particle's s.d. per measured quantity, n_terms of them; at least 1, at most
+    walk_max_growth); returns (misfit, spread). One call for `ParticleFilter.update`."""
+    best, spread = weigh(p, ll, c, s, w, pose, tmp)
+    v = -2.0 * best
+    misfit = math.sqrt((v if v > 0.0 else 0.0) / n_terms)
+    grow = 1.0 if 1.0 > misfit else misfit  # Python's min(max(misfit, 1.0), walk_max_growth)
+    grow = walk_max_growth if walk_max_growth < grow else grow
+    resample(p, w, gen, n_new, walk_xy * grow, walk_theta * grow, low, span, lm_xy, lm_idx, landmarks,
+             sigma_theta, out)
+    return misfit, spread
 
 
 @njit

@@ -96,6 +96,7 @@ class ParticleFilter:
         self.side = side
         lm = landmarks_in_team(side)
         self._lm_names = {n: i for i, n in enumerate(lm)}
+        self._lm_index: dict[tuple[str, ...], np.ndarray] = {}  # names seen -> indices (-1: unknown)
         self._lm_xy = np.array([v[:2] for v in lm.values()])
         lines = lines_in_team(side)[:, :, :2]
         a, b = lines[:, 0], lines[:, 1]
@@ -210,8 +211,15 @@ class ParticleFilter:
         indices (-1 for unknown names), the landmarks as a float array and the numbers of
         landmarks and lines used."""
         pr = self.params
-        get = self._lm_names.get
-        lm_idx = np.array([get(name, -1) for name in landmark_names], dtype=np.int64)
+        named = isinstance(landmark_names, tuple)  # a list does not hash
+        lm_idx = self._lm_index.get(landmark_names) if named else None
+        if lm_idx is None:
+            if len(self._lm_index) > 4096:  # a bound, far above the sets of landmarks seen in a game
+                self._lm_index.clear()
+            get = self._lm_names.get
+            lm_idx = np.array([get(name, -1) for name in landmark_names], dtype=np.int64)
+            if named:
+                self._lm_index[landmark_names] = lm_idx
         landmarks = np.asarray(landmarks, dtype=float)
         lines = np.asarray(lines, dtype=float)
         if lines.ndim != 3:  # no lines, in any shape
@@ -259,27 +267,19 @@ class ParticleFilter:
         self.last_update_seen = n_landmarks > 0 or n_lines > 0
         if not self.last_update_seen:
             return False
-        best, self._spread = kernels.weigh(p, self._ll, c, s, self.weights, self._pose, self._tmp)
-        # Misfit of the best particle, in standard deviations per measured quantity.
-        self.misfit = math.sqrt(max(0.0, -2.0 * best) / (2 * n_landmarks + 3 * n_lines))
-        self._resample(lm_idx, landmarks)
-        return True
-
-    # -------------------------------------------------------------- resampling
-
-    def _resample(self, lm_idx: np.ndarray, landmarks: np.ndarray) -> None:
-        """Systematic resampling of all but the fresh 5 %, a random walk, fresh particles
-        (half of them seeded from the landmarks seen); see `kernels.resample`."""
+        # Weights, estimate and spread; then systematic resampling of all but the fresh 5 %,
+        # a random walk that grows when even the best particle fits badly (the cloud has
+        # collapsed next to the truth rather than on it) and fresh particles, half of them
+        # seeded from the landmarks seen. misfit: the best particle's s.d. per measured quantity.
         pr = self.params
-        n = len(self.particles)
-        # The random walk grows when even the best particle fits badly (the cloud has
-        # collapsed next to the truth rather than on it) and shrinks back when it fits.
-        grow = min(max(self.misfit, 1.0), pr.walk_max_growth)
         out = self._spare
-        kernels.resample(self.particles, self.weights, self._draws(), int(round(pr.random_fraction * n)),
-                         pr.walk_xy * grow, pr.walk_theta * grow, self._low, self._range, self._lm_xy, lm_idx,
-                         landmarks, pr.seed_sigma_theta, out)
-        self._spare, self.particles = self.particles, out
+        self.misfit, self._spread = kernels.weigh_and_resample(
+            p, self._ll, c, s, self.weights, self._pose, self._tmp, 2 * n_landmarks + 3 * n_lines,
+            self._draws(), int(round(pr.random_fraction * len(p))), pr.walk_xy, pr.walk_theta,
+            pr.walk_max_growth, self._low, self._range, self._lm_xy, lm_idx, landmarks, pr.seed_sigma_theta,
+            out)
+        self._spare, self.particles = p, out
+        return True
 
     # ---------------------------------------------------------------- estimate
 
