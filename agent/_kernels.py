@@ -185,7 +185,7 @@ def _fma32(typingctx, a, b, c):
 def line_scores(b: np.ndarray, q: np.ndarray, m: int, k: int, reach: np.ndarray, ratio2: np.ndarray,
                 out: np.ndarray) -> None:
     """Per particle, the sum over k observed lines of the best (lowest) score over m
-    known lines (`ParticleFilter._line_log_likelihood`).
+    known lines (`ParticleFilter.log_likelihood`).
 
     b (3 m k, 7) float32 maps the particle features q (7, n) float32 to projections:
     row (t m + j) k + l holds, for known line j and observed line l, t = 0 the
@@ -647,7 +647,7 @@ def weigh_and_resample(p: np.ndarray, ll: np.ndarray, c: np.ndarray, s: np.ndarr
 def line_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.ndarray, seg: np.ndarray,
                         length: np.ndarray, w_all: np.ndarray, known_len: np.ndarray, inv_distance: float,
                         sigma_ratio: float, out: np.ndarray) -> None:
-    """out (n,) = the line log-likelihood of `ParticleFilter._line_log_likelihood` for
+    """out (n,) = the line log-likelihood of `ParticleFilter.log_likelihood` for
     particles (px, py, heading cosines c and sines s), observed lines seg (K, 2, 2) with
     lengths `length`, against the known lines' rows w_all (3 m, 5) and lengths known_len.
 

@@ -18,7 +18,7 @@ Deviations, each to make the filter fast or quick to recover:
   line plus how far its end points reach past the known segment's ends (both
   measured along the known line), which keeps every term linear in the
   particle's features so that one matrix product serves all particles,
-  observed and known lines (see `_line_log_likelihood`).
+  observed and known lines (see `log_likelihood`).
 * Half of the fresh 5 % are drawn uniformly over the field, the other half from
   the current landmark observations (sensor resetting: the pose a pair of seen
   landmarks implies, or with a single landmark a random heading and the
@@ -28,9 +28,9 @@ Deviations, each to make the filter fast or quick to recover:
 * The random walk grows (up to 8x) while even the best particle fits the
   observations badly, so a cloud that collapsed next to the truth moves onto it.
 * Resampling is systematic (the algorithm of filterpy's `systematic_resample`)
-  but vectorized with `searchsorted` and driven by this filter's own seeded
-  generator: filterpy's version loops in Python and draws from numpy's global
-  random state.
+  but compiled (one pass over the cumulative weights) and driven by this
+  filter's own seeded generator: filterpy's version loops in Python and draws
+  from numpy's global random state.
 """
 
 from __future__ import annotations

@@ -102,3 +102,52 @@ def test_recovers_after_kidnap():
     run(m, 5.0)
     d, h = pose_error(m, 0)
     assert d < 0.15 and h < math.radians(5), (d, math.degrees(h))
+
+
+def test_kernel_draws_are_the_generators_stream():
+    """The kernels step the filter's PCG64 as numpy's Generator does: the same normals,
+    uniforms and bounded integers, and the generator carries on from where they left it."""
+    from numba import njit
+
+    from agent import _kernels as kernels
+
+    @njit
+    def draw(gen, n, high, normals, uniforms, ints):
+        for i in range(n):
+            normals[i] = kernels.normal_draw(gen[0])
+        for i in range(uniforms.shape[0]):
+            uniforms[i] = kernels.uniform_draw(gen[0])
+        for i in range(ints.shape[0]):
+            ints[i] = kernels.integer_draw(gen, 1, high)
+
+    ours, ref = np.random.default_rng(7), np.random.default_rng(7)
+    gen = kernels.bitgen_addresses(ours)
+    for high in (2, 3, 5, 9):
+        normals, uniforms, ints = np.empty(20000), np.empty(7), np.empty(11, dtype=np.int64)
+        draw(gen, len(normals), high, normals, uniforms, ints)
+        np.testing.assert_array_equal(normals, ref.standard_normal(len(normals)))
+        np.testing.assert_array_equal(uniforms, ref.random(len(uniforms)))
+        np.testing.assert_array_equal(ints, ref.integers(1, high, size=len(ints)))
+    assert ours.random() == ref.random() and ours.integers(5) == ref.integers(5)
+
+
+def test_weigh_sums_as_numpy():
+    """The weights' normalization uses numpy's pairwise sum order (exactly); the mean
+    and spread its BLAS dot products (exactly where OpenBLAS runs its Haswell kernel)."""
+    from agent import _kernels as kernels
+
+    rng = np.random.default_rng(3)
+    for n in (7, 100, 500, 1001):
+        p = rng.normal(0.0, 5.0, (n, 3))
+        ll = rng.normal(-20.0, 10.0, n)
+        c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
+        w, pose, tmp = np.empty(n), np.empty(3), np.empty(n)
+        best, spread = kernels.weigh(p, ll, c, s, w, pose, tmp)
+        ref = np.exp(ll - ll.max())
+        assert kernels._pairwise_sum(ref) == ref.sum()
+        ref *= 1.0 / ref.sum()
+        np.testing.assert_array_equal(w, ref)
+        x, y = ref @ p[:, 0], ref @ p[:, 1]
+        np.testing.assert_allclose(pose, [x, y, math.atan2(ref @ s, ref @ c)], rtol=1e-12, atol=1e-12)
+        d = (p[:, 0] - x) ** 2 + (p[:, 1] - y) ** 2
+        assert best == ll.max() and math.isclose(spread, math.sqrt(ref @ d), rel_tol=1e-12)
