@@ -168,17 +168,22 @@ def predict_particles(p: np.ndarray, pose: np.ndarray, gen: np.ndarray, ex: floa
     pose[2] = (pose[2] + et + math.pi) % TWO_PI - math.pi
 
 
-@intrinsic
-def _fma32(typingctx, a, b, c):
-    """a * b + c in float32 with one rounding (LLVM's fma intrinsic)."""
-    sig = types.float32(types.float32, types.float32, types.float32)
+def _fma_intrinsic(nb_type, ll_type):
+    """An intrinsic a * b + c with one rounding (LLVM's fma) for one float type."""
 
-    def codegen(context, builder, signature, args):
-        f32 = ir.FloatType()
-        fn = builder.module.declare_intrinsic("llvm.fma", [f32], ir.FunctionType(f32, [f32] * 3))
-        return builder.call(fn, args)
+    @intrinsic
+    def fma(typingctx, a, b, c):
+        def codegen(context, builder, signature, args):
+            fma_type = ir.FunctionType(ll_type, [ll_type] * 3)
+            return builder.call(builder.module.declare_intrinsic("llvm.fma", [ll_type], fma_type), args)
 
-    return sig, codegen
+        return nb_type(nb_type, nb_type, nb_type), codegen
+
+    return fma
+
+
+_fma32 = _fma_intrinsic(types.float32, ir.FloatType())
+_fma64 = _fma_intrinsic(types.float64, ir.DoubleType())
 
 
 @njit
@@ -706,19 +711,6 @@ def line_log_likelihood(px: np.ndarray, py: np.ndarray, c: np.ndarray, s: np.nda
 # fused multiply-add chain from zero per entry (dgemm); numpy hands a single row to dgemv,
 # which sums (a0 b0 + a1 b1) + a2 b2 against a C-ordered matrix and fma(a2 b2, fma(a0 b0,
 # a1 b1)) against a transposed one.
-
-
-@intrinsic
-def _fma64(typingctx, a, b, c):
-    """a * b + c in float64 with one rounding (LLVM's fma intrinsic)."""
-    sig = types.float64(types.float64, types.float64, types.float64)
-
-    def codegen(context, builder, signature, args):
-        f64 = ir.DoubleType()
-        fn = builder.module.declare_intrinsic("llvm.fma", [f64], ir.FunctionType(f64, [f64] * 3))
-        return builder.call(fn, args)
-
-    return sig, codegen
 
 
 @njit
