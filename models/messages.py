@@ -46,9 +46,9 @@ class Vision:
             return None
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class HeardMessage:
-    """A message heard this cycle."""
+    """A message heard this cycle (read-only by convention: 60 of them a cycle)."""
 
     time: float  # s, server time when it was said
     team: str  # "self" (own message), "ours" or "theirs"

@@ -290,3 +290,63 @@ def body_sensors(xmat: np.ndarray, cvel: np.ndarray, acc: np.ndarray, torso: np.
             site = sole_site[s]
             if _ray_hits_box(site_xpos[site], site_xmat[site], site_size[site], con_pos[k], ray):
                 out[sole_slot[s, 0], 6 + sole_slot[s, 1]] += f
+
+
+@njit
+def hearing_choices(cycle: int, said: np.ndarray, left: np.ndarray, pos: np.ndarray,
+                    heading: np.ndarray, next_cycle: np.ndarray, period: int, reach: float,
+                    pool: np.ndarray, at: int, speaker: np.ndarray, direction: np.ndarray) -> int:
+    """Which message each listener hears: for listener j and slot 0 (own team) or 1 (the
+    other team), speaker[j, slot] is the speaker heard (-1: none) and direction[j, slot]
+    its horizontal direction (rad, torso frame of j, in [-pi, pi]).
+
+    said (n,) who spoke, left (n,) sides, pos (n, 3) torso positions and heading (n,) torso
+    yaws (world frame); next_cycle (n, 2) the first cycle each slot may hear again, updated
+    in place. Among several candidates in reach (ascending index) one is drawn with numpy's
+    `Generator.integers(k)` method (Lemire's, on 32-bit draws) from the raw 32-bit draws
+    pool[at:]. Returns the new `at`, or -1 when the pool ran out (nothing was changed then
+    but speaker and direction).
+    """
+    n = said.shape[0]
+    cands = np.empty(n, np.int64)
+    heard_at = np.full((n, 2), -1, np.int64)
+    u = at
+    for j in range(n):
+        for slot in range(2):
+            speaker[j, slot] = -1
+            if cycle < next_cycle[j, slot]:
+                continue
+            k = 0
+            for s in range(n):
+                if said[s] and s != j and (left[s] == left[j]) == (slot == 0):
+                    dx, dy = pos[s, 0] - pos[j, 0], pos[s, 1] - pos[j, 1]
+                    if math.sqrt(dx * dx + dy * dy) <= reach:
+                        cands[k] = s
+                        k += 1
+            if k == 0:
+                continue
+            pick = 0
+            if k > 1:  # Generator.integers(k): random_bounded_uint64_fill's Lemire branch
+                rng = np.uint64(k - 1)
+                excl = rng + np.uint64(1)
+                while True:
+                    if u >= pool.shape[0]:
+                        return -1
+                    m = np.uint64(pool[u]) * excl
+                    u += 1
+                    left_over = m & np.uint64(0xFFFFFFFF)
+                    if left_over >= excl or left_over >= (np.uint64(0xFFFFFFFF) - rng) % excl:
+                        break
+                pick = np.int64(m >> np.uint64(32))
+            s = cands[pick]
+            a = math.atan2(pos[s, 1] - pos[j, 1], pos[s, 0] - pos[j, 0]) - heading[j]
+            if abs(a) > math.pi:  # math.remainder(a, 2 pi) for |a| <= 2 pi, exactly (Sterbenz)
+                a -= math.copysign(2.0 * math.pi, a)
+            speaker[j, slot] = s
+            direction[j, slot] = a
+            heard_at[j, slot] = cycle + period
+    for j in range(n):
+        for slot in range(2):
+            if heard_at[j, slot] >= 0:
+                next_cycle[j, slot] = heard_at[j, slot]
+    return u

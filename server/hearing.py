@@ -10,12 +10,13 @@ longer than 20 characters or with a character outside 0x21..0x7E (less '(' and
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from models.messages import HeardMessage
-from models.rules import HEAR_DISTANCE, HEAR_PERIOD, SAY_ALPHABET, SAY_MAX_LENGTH
+from models.rules import HEAR_DISTANCE, HEAR_PERIOD, SAY_ALPHABET, SAY_MAX_LENGTH, Side
+from server._kernels import hearing_choices
+
+POOL = 1 << 12  # raw 32-bit draws per refill of the choice pool
 
 
 def say_error(text: str) -> str | None:
@@ -33,40 +34,62 @@ def say_error(text: str) -> str | None:
 
 
 class Hearing:
-    """Routes said messages to listeners, one cycle later."""
+    """Routes said messages to listeners, one cycle later.
+
+    The choice among several speakers is `rng.integers(k)` of the seeded generator, made
+    in the compiled `server._kernels.hearing_choices` from a pool of the generator's raw
+    32-bit draws (taken as its `next_uint32` would: the low half of each 64-bit output,
+    then the high half), so the messages heard are those of one `integers` call per
+    choice, draw for draw.
+    """
 
     def __init__(self, sides: np.ndarray, rng: np.random.Generator) -> None:
         self.sides = sides
         self.rng = rng
         n = len(sides)
+        self._left = np.asarray(sides) == Side.LEFT
         self.next_cycle = np.zeros((n, 2), dtype=np.int64)  # per listener: own team, other team
+        self._pool = np.empty(0, dtype=np.uint32)
+        self._at = 0
+        self._said = np.zeros(n, dtype=np.bool_)
+        self._speaker = np.empty((n, 2), dtype=np.int64)
+        self._direction = np.empty((n, 2))
+
+    def _refill(self) -> None:
+        """Keep the unused draws and add POOL fresh ones."""
+        raw = self.rng.bit_generator.random_raw(POOL // 2).view(np.uint32)  # low, high, low, ...
+        self._pool = np.concatenate([self._pool[self._at:], raw])
+        self._at = 0
 
     def route(self, cycle: int, time: float, said: dict[int, str], positions: np.ndarray,
               headings: np.ndarray) -> dict[int, list[HeardMessage]]:
         """Messages heard at `cycle` + 1 for messages `said` (already validated) at `cycle`.
 
-        positions are torso positions (n, 3), headings torso yaws (n,), world frame.
+        positions are torso positions (n, 3), headings torso yaws (n,; rad in [-pi, pi]),
+        world frame.
         """
         heard: dict[int, list[HeardMessage]] = {}
         if not said:
             return heard
-        speakers = sorted(said)
-        for j in range(len(self.sides)):
+        flags = self._said
+        flags[:] = False
+        flags[list(said)] = True
+        speaker, direction = self._speaker, self._direction
+        while True:
+            at = hearing_choices(cycle, flags, self._left, positions, headings, self.next_cycle,
+                                 HEAR_PERIOD, HEAR_DISTANCE, self._pool, self._at, speaker, direction)
+            if at >= 0:
+                break
+            self._refill()
+        self._at = at
+        for j, ((s0, s1), (d0, d1)) in enumerate(zip(speaker.tolist(), direction.tolist())):
             msgs: list[HeardMessage] = []
             if j in said:
                 msgs.append(HeardMessage(time, "self", 0.0, said[j]))
-            for slot, same in ((0, True), (1, False)):
-                if cycle < self.next_cycle[j, slot]:
-                    continue
-                cands = [s for s in speakers if s != j and (self.sides[s] == self.sides[j]) == same
-                         and np.linalg.norm(positions[s, :2] - positions[j, :2]) <= HEAR_DISTANCE]
-                if not cands:
-                    continue
-                s = cands[int(self.rng.integers(len(cands)))] if len(cands) > 1 else cands[0]
-                dx, dy = positions[s, :2] - positions[j, :2]
-                direction = math.remainder(math.atan2(dy, dx) - headings[j], 2 * math.pi)
-                msgs.append(HeardMessage(time, "ours" if same else "theirs", direction, said[s]))
-                self.next_cycle[j, slot] = cycle + HEAR_PERIOD
+            if s0 >= 0:
+                msgs.append(HeardMessage(time, "ours", d0, said[s0]))
+            if s1 >= 0:
+                msgs.append(HeardMessage(time, "theirs", d1, said[s1]))
             if msgs:
                 heard[j] = msgs
         return heard
