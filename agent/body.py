@@ -207,7 +207,7 @@ class Body:
 
     def _walk_to(self, percept: Percept, world: WorldModel, tx: float, ty: float,
                  heading: float | None, set_name: str = "go_to_target") -> np.ndarray:
-        x, y, h = (float(v) for v in world.pose)
+        x, y, h = world.pose.tolist()
         dx, dy = Pose2(x, y, h).to_local(tx, ty)
         dheading = None if heading is None else wrap(heading - h)
         if math.hypot(dx, dy) < STOP_DISTANCE and (dheading is None or abs(dheading) < STOP_TURN):

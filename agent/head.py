@@ -40,7 +40,7 @@ def scan_pan(t: float) -> float:
 def focus_pan(t: float, ball_bearing: float) -> float:
     """Pan angle (rad) swinging +-30 deg around the ball's bearing (rad, torso frame)."""
     tri = 1.0 - 4.0 * abs((t / FOCUS_PERIOD) % 1.0 - 0.5)  # -1..1 triangle wave
-    return float(np.clip(ball_bearing + FOCUS_SWING * tri, -PAN_LIMIT, PAN_LIMIT))
+    return min(max(float(ball_bearing + FOCUS_SWING * tri), -PAN_LIMIT), PAN_LIMIT)
 
 
 class HeadController:
@@ -70,5 +70,6 @@ class HeadController:
         pan, tilt = self.target(t, ball_bearing, ball_distance)
         # Two floats clamped by hand: np.clip's values, without its cost on a 2-array.
         m, g = nao.MAX_JOINT_SPEED, self.gain
-        vp, vt = g * (pan - joints[0]), g * (tilt - joints[1])
-        return np.array([min(max(vp, -m), m), min(max(vt, -m), m)], dtype=float)
+        q0, q1 = joints[0:2].tolist()
+        vp, vt = g * (pan - q0), g * (tilt - q1)
+        return np.array([min(max(vp, -m), m), min(max(vt, -m), m)])
