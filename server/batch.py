@@ -191,9 +191,12 @@ def game_row(result: dict, a_side: str) -> dict:
     stats = result["stats"]
     crashes = [{"team": ab.get(e["team"]), "player": e["player"], "time": e["time"], "reason": e["detail"]}
                for e in result["events"] if e["kind"] == "agent_crashed"]
+    # Game time of each goal, for the scoring team (own goals count for the other team).
+    goal_times = [{"team": ab.get(e["team"]), "time": e["time"], "player": e["player"]}
+                  for e in result["events"] if e["kind"] == "goal"]
     return {
         "score": score, "goal_difference": score["A"] - score["B"],
-        "goals": {"A": goals.get("A", 0), "B": goals.get("B", 0)},
+        "goals": {"A": goals.get("A", 0), "B": goals.get("B", 0)}, "goal_times": goal_times,
         "events": dict(sorted(Counter(e["kind"] for e in result["events"]).items())),
         "crashes": crashes,
         "falls": {"A": stats[a_side]["falls"], "B": stats[b_side]["falls"]},

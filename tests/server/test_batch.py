@@ -17,6 +17,7 @@ from server.batch import (
     BatchSettings,
     compare,
     describe,
+    game_row,
     read_games,
     run_batch,
     summarize,
@@ -81,6 +82,22 @@ def test_seeds_and_alternating_sides(tmp_path):
     assert summary["games"] == 4 and summary["errors"] == 0
     assert summary["wins"] + summary["draws"] + summary["losses"] == 4
     assert json.loads((tmp_path / SUMMARY).read_text()) == summary
+
+
+def test_game_row_seen_from_team_a():
+    result = {
+        "score": {"L": 1, "R": 2}, "wall_time": 3.0, "game_time": 600.0,
+        "events": [{"time": 12.5, "kind": "goal", "team": "R", "player": 7, "detail": "0:1"},
+                   {"time": 40.0, "kind": "goal", "team": "L", "player": None, "detail": "1:1 (own goal)"},
+                   {"time": 599.0, "kind": "goal", "team": "R", "player": 3, "detail": "1:2"}],
+        "stats": {s: {"falls": f, "possession_share": 0.5, "ball_touches": 9}
+                  for s, f in (("L", 4), ("R", 6))},
+    }
+    row = game_row(result, "R")  # team A played right
+    assert row["score"] == {"A": 2, "B": 1} and row["goal_difference"] == 1
+    assert row["goals"] == {"A": 2, "B": 1} and row["falls"] == {"A": 6, "B": 4}
+    assert [(g["team"], g["time"], g["player"]) for g in row["goal_times"]] == [
+        ("A", 12.5, 7), ("B", 40.0, None), ("A", 599.0, 3)]
 
 
 def test_crashing_agent_is_an_event_and_broken_factory_an_error_row(tmp_path):
