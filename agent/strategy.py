@@ -126,8 +126,7 @@ def on_ball_player(view: TeamView, exclude: int | None = None) -> int | None:
 
 def role_positions(formation: Formation, ball: np.ndarray, shift: float = 0.0) -> np.ndarray:
     """(10, 2) positions of FIELD_ROLES for a ball position (the formation's lookup)."""
-    pos = formation.positions_at(np.asarray(ball, dtype=float))
-    out = pos[formation.indices(FIELD_ROLES)]
+    out = formation.rows_at(formation.indices(FIELD_ROLES), ball)
     if shift:
         out[1:, 0] = np.clip(out[1:, 0] + shift, -fld.HALF_LENGTH + 0.5, fld.HALF_LENGTH - 0.5)
     return out
