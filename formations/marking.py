@@ -13,6 +13,7 @@ Field frame, meters; our goal is at x = -15, opponents attack toward -x.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -20,6 +21,8 @@ from scipy.optimize import linear_sum_assignment
 
 from formations import field as fld
 from formations import priority as prio
+
+_OWN_GOAL = tuple(fld.OWN_GOAL.tolist())  # (x, y) m
 
 
 @dataclass
@@ -52,21 +55,34 @@ def opponents_to_mark(
     """
     p = params or MarkingParams()
     opponents = np.asarray(opponents, dtype=float).reshape(-1, 2)
-    ball = np.asarray(ball, dtype=float)
     k = len(opponents)
     if k == 0:
         return np.zeros(0, dtype=bool)
-    slack = 0.0 if marked is None else np.where(np.asarray(marked, bool), p.hysteresis, 0)
-    to_goal = _norms(opponents - fld.OWN_GOAL)
-    to_ball = _norms(opponents - ball)
-    not_closest = np.ones(k, dtype=bool)
-    not_closest[int(np.argmin(to_ball))] = False
-    return (
-        (to_goal <= p.shot_range + slack)
-        & not_closest
-        & (to_ball >= p.min_ball_distance - slack)
-        & (opponents[:, 0] - ball[0] <= p.max_behind_ball + slack)
-    )
+    bx, by = np.asarray(ball, dtype=float).reshape(2).tolist()
+    gx, gy = _OWN_GOAL
+    points = opponents.tolist()
+    flags = [False] * k if marked is None else np.broadcast_to(np.asarray(marked, bool), (k,)).tolist()
+    slack = [p.hysteresis if m else 0.0 for m in flags]
+    to_ball = [math.sqrt((x - bx) * (x - bx) + (y - by) * (y - by)) for x, y in points]
+    closest = _argmin(to_ball)
+    return np.array([
+        i != closest
+        and math.sqrt((x - gx) * (x - gx) + (y - gy) * (y - gy)) <= p.shot_range + s
+        and d >= p.min_ball_distance - s
+        and x - bx <= p.max_behind_ball + s
+        for i, ((x, y), d, s) in enumerate(zip(points, to_ball, slack))
+    ], dtype=bool)
+
+
+def _argmin(values: list[float]) -> int:
+    """np.argmin of a non-empty list: the first least value, or the first nan."""
+    best = 0
+    for i, v in enumerate(values):
+        if v != v:
+            return i
+        if v < values[best]:
+            best = i
+    return best
 
 
 def _norms(d: np.ndarray) -> np.ndarray:
@@ -166,12 +182,15 @@ def plan(
     p = params or MarkingParams()
     formation = np.asarray(formation, dtype=float)
     mask = opponents_to_mark(opponents, ball, marked, p)
-    opponents = np.asarray(opponents, dtype=float).reshape(-1, 2)
-    marked_ids = np.flatnonzero(mask)
-    spots = marking_positions(opponents[marked_ids], p.mark_distance)  # row by row: a subset is exact
-    marks = {int(i): spot for i, spot in zip(marked_ids.tolist(), spots)}
-    replaceable = np.array([r not in keep for r in roles], dtype=bool)
-    selection = select_roles(formation, replaceable, marks, previous, p.reselect_gain)
+    selection = RoleSelection()
+    marks: dict[int, np.ndarray] = {}
+    if mask.any():
+        opponents = np.asarray(opponents, dtype=float).reshape(-1, 2)
+        marked_ids = np.flatnonzero(mask)
+        spots = marking_positions(opponents[marked_ids], p.mark_distance)  # row by row: a subset is exact
+        marks = {int(i): spot for i, spot in zip(marked_ids.tolist(), spots)}
+        replaceable = np.array([r not in keep for r in roles], dtype=bool)
+        selection = select_roles(formation, replaceable, marks, previous, p.reselect_gain)
     targets = formation.copy()
     pri = np.zeros(len(roles))
     dist = np.zeros(len(roles))
