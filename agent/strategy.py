@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from formations import _kernels as _fkernels
 from formations.delaunay import Formation
 from formations.scram import assign_costs
 from models import field as fld
@@ -158,13 +159,8 @@ def _disks(obstacles: np.ndarray) -> list[list[float]]:
 def walking_costs(players: Sequence[Mate], targets: np.ndarray) -> np.ndarray:
     """`walking_cost` (no obstacles) of every player (rows) to every target (columns)."""
     xs = np.array([[m.x, m.y, m.heading, m.fallen] for m in players], dtype=float).reshape(-1, 4)
-    t = np.asarray(targets, dtype=float).reshape(-1, 2)
-    dx = t[None, :, 0] - xs[:, None, 0]
-    dy = t[None, :, 1] - xs[:, None, 1]
-    dist = np.hypot(dx, dy)
-    turn = np.abs(wrap(np.arctan2(dy, dx) - xs[:, None, 2])) / math.pi
-    turn = np.where(dist > FACE_BALL_WITHIN, turn, 0.0)
-    return dist + TURN_COST * turn + FALLEN_PENALTY * xs[:, None, 3]
+    t = np.ascontiguousarray(targets, dtype=float).reshape(-1, 2)
+    return _fkernels.walking_costs(xs, t, FACE_BALL_WITHIN, TURN_COST, FALLEN_PENALTY)
 
 
 BALL_RADIUS_PATH = 0.3  # m kept from the ball by a walk that must not push it (PathCost)

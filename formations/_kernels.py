@@ -659,3 +659,27 @@ def formation_positions(bx: float, by: float, rows: np.ndarray, mirror: np.ndarr
             out[i, 0] = full[rows[i], 0]
             out[i, 1] = full[rows[i], 1]
     return out
+
+
+# ------------------------------------------------------------------ walking costs
+
+@njit
+def walking_costs(players: np.ndarray, targets: np.ndarray, face_within: float, turn_cost: float,
+                  fallen_penalty: float) -> np.ndarray:
+    """(k, m) costs (m) of (k, 4) players (x, y, heading, fallen 0/1) walking to (m, 2)
+    targets: the distance, `turn_cost` per half turn toward the target when farther than
+    `face_within`, `fallen_penalty` for a fallen player (numpy's elementwise order and
+    libm's hypot and atan2, as `agent.strategy.walking_costs` computed them)."""
+    k, m = players.shape[0], targets.shape[0]
+    out = np.empty((k, m))
+    for i in range(k):
+        x, y, heading, fallen = players[i, 0], players[i, 1], players[i, 2], players[i, 3]
+        for j in range(m):
+            dx = targets[j, 0] - x
+            dy = targets[j, 1] - y
+            dist = math.hypot(dx, dy)
+            turn = 0.0
+            if dist > face_within:
+                turn = abs((math.atan2(dy, dx) - heading + math.pi) % (2.0 * math.pi) - math.pi) / math.pi
+            out[i, j] = dist + turn_cost * turn + fallen_penalty * fallen
+    return out

@@ -12,6 +12,7 @@ import pytest
 from agent import strategy as st
 from formations.delaunay import Formation
 from models import field as fld
+from models.geometry import wrap
 from models.rules import PlayMode
 
 
@@ -169,3 +170,30 @@ def test_walking_costs_match_the_single_cost():
     targets = rng.uniform(-10, 10, (5, 2))
     want = np.array([[st.walking_cost(m, t) for t in targets] for m in players])
     assert np.allclose(st.walking_costs(players, targets), want, rtol=0, atol=1e-12)
+
+
+def _numpy_walking_costs(players, targets):
+    """walking_costs as numpy computes it elementwise (the compiled kernel's spec)."""
+    xs = np.array([[m.x, m.y, m.heading, m.fallen] for m in players], dtype=float).reshape(-1, 4)
+    t = np.asarray(targets, dtype=float).reshape(-1, 2)
+    dx = t[None, :, 0] - xs[:, None, 0]
+    dy = t[None, :, 1] - xs[:, None, 1]
+    dist = np.hypot(dx, dy)
+    turn = np.abs(wrap(np.arctan2(dy, dx) - xs[:, None, 2])) / math.pi
+    turn = np.where(dist > st.FACE_BALL_WITHIN, turn, 0.0)
+    return dist + st.TURN_COST * turn + st.FALLEN_PENALTY * xs[:, None, 3]
+
+
+def test_walking_costs_equal_numpy_bit_for_bit():
+    rng = np.random.default_rng(1)
+    for _ in range(3000):
+        k, n = rng.integers(0, 11, 2)
+        players = [st.Mate(u, *rng.uniform([-15, -10], [15, 10]), rng.uniform(-7, 7),
+                           bool(rng.random() < 0.3)) for u in range(k)]
+        targets = rng.uniform([-15, -10], [15, 10], size=(n, 2))
+        if k and n and rng.random() < 0.3:  # on the grid, one target exactly FACE_BALL_WITHIN away
+            players = [st.Mate(m.unum, round(m.x), round(m.y), m.heading, m.fallen) for m in players]
+            targets = np.round(targets)
+            targets[0] = (players[0].x + st.FACE_BALL_WITHIN, players[0].y)
+        got, want = st.walking_costs(players, targets), _numpy_walking_costs(players, targets)
+        assert got.shape == want.shape and got.tobytes() == want.tobytes()
