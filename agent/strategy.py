@@ -288,21 +288,11 @@ def avoid(me: Sequence[float], target: Sequence[float], obstacles: np.ndarray,
     dist = float(np.hypot(*to_t))
     if dist < 1e-6 or len(obstacles) == 0:
         return t
-    want = to_t / dist
-    rel = np.asarray(obstacles, dtype=float)[:, :2] - p
-    d = np.hypot(rel[:, 0], rel[:, 1])
-    near = (d < proximity) & (d < dist) & (d > 1e-6) & (rel @ want > 0.0)
-    if not near.any():
-        return t
-    i = int(np.argmin(np.where(near, d, np.inf)))
-    u = rel[i] / d[i]
-    left = np.array([-u[1], u[0]])  # tangent passing the obstacle on its right
-    tangent = left if float(left @ want) >= 0 else -left
-    step = tangent
-    if d[i] < collision:
-        step = tangent - u
-    step = step / max(float(np.hypot(*step)), 1e-9)
-    return p + step * min(dist, proximity)
+    px, py = p.tolist()
+    tx, ty = t.tolist()
+    obstacles = np.ascontiguousarray(obstacles, dtype=float)
+    turn, x, y = _fkernels.avoid_step(px, py, tx, ty, dist, obstacles, proximity, collision)
+    return np.array([x, y]) if turn else t
 
 
 def facing(me: Sequence[float], target: Sequence[float], ball: np.ndarray | None) -> float | None:

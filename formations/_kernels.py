@@ -683,3 +683,66 @@ def walking_costs(players: np.ndarray, targets: np.ndarray, face_within: float, 
                 turn = abs((math.atan2(dy, dx) - heading + math.pi) % (2.0 * math.pi) - math.pi) / math.pi
             out[i, j] = dist + turn_cost * turn + fallen_penalty * fallen
     return out
+
+
+@njit
+def avoid_step(px: float, py: float, tx: float, ty: float, dist: float, obstacles: np.ndarray,
+               proximity: float, collision: float) -> tuple[bool, float, float]:
+    """`agent.strategy.avoid` past its early returns, from (px, py) toward (tx, ty) at
+    `dist` (m, > 1e-6) with (k >= 1, 2+) obstacles: (False, ...) to keep the target, else
+    (True, x, y), the point to walk toward. The products repeat numpy's: the obstacles'
+    (k, 2) @ (2,) is fma(a0, v0, a1 v1) per row for k >= 2 (OpenBLAS's dgemv), the one row
+    and the 2-vector dot are (a0 v0 + a1 v1)."""
+    wx = (tx - px) / dist
+    wy = (ty - py) / dist
+    k = obstacles.shape[0]
+    best, best_d = -1, math.inf
+    for i in range(k):
+        rx = obstacles[i, 0] - px
+        ry = obstacles[i, 1] - py
+        d = math.hypot(rx, ry)
+        ahead = _fma(rx, wx, ry * wy) if k >= 2 else rx * wx + ry * wy
+        if d < proximity and d < dist and d > 1e-6 and ahead > 0.0 and d < best_d:
+            best, best_d = i, d
+    if best < 0:
+        return False, 0.0, 0.0
+    ux = (obstacles[best, 0] - px) / best_d
+    uy = (obstacles[best, 1] - py) / best_d
+    sx, sy = -uy, ux  # the tangent passing the obstacle on its right ...
+    if not sx * wx + sy * wy >= 0:
+        sx, sy = -sx, -sy  # ... or on its left, whichever leads on
+    if best_d < collision:
+        sx, sy = sx - ux, sy - uy
+    norm = math.hypot(sx, sy)
+    norm = 1e-9 if 1e-9 > norm else norm
+    reach = proximity if proximity < dist else dist
+    return True, px + sx / norm * reach, py + sy / norm * reach
+
+
+# ---------------------------------------------------------------------- marking
+
+@njit
+def marking_mask(opponents: np.ndarray, bx: float, by: float, gx: float, gy: float, marked: np.ndarray,
+                 hysteresis: float, shot_range: float, min_ball_distance: float,
+                 max_behind_ball: float) -> np.ndarray:
+    """`formations.marking.opponents_to_mark` of (k >= 1, 2) opponents, the ball at (bx, by)
+    and our goal at (gx, gy) (m); `marked` (k,) or empty for none. The opponent nearest
+    the ball is np.argmin's: the first least distance, or the first nan."""
+    k = opponents.shape[0]
+    to_ball = np.empty(k)
+    closest = -1
+    for i in range(k):
+        dx = opponents[i, 0] - bx
+        dy = opponents[i, 1] - by
+        d = math.sqrt(dx * dx + dy * dy)
+        to_ball[i] = d
+        if closest < 0 or (to_ball[closest] == to_ball[closest] and (d != d or d < to_ball[closest])):
+            closest = i
+    out = np.empty(k, np.bool_)
+    for i in range(k):
+        s = hysteresis if marked.shape[0] and marked[i] else 0.0
+        dx = opponents[i, 0] - gx
+        dy = opponents[i, 1] - gy
+        out[i] = (i != closest and math.sqrt(dx * dx + dy * dy) <= shot_range + s
+                  and to_ball[i] >= min_ball_distance - s and opponents[i, 0] - bx <= max_behind_ball + s)
+    return out

@@ -13,16 +13,17 @@ Field frame, meters; our goal is at x = -15, opponents attack toward -x.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from formations import _kernels
 from formations import field as fld
 from formations import priority as prio
 
 _OWN_GOAL = tuple(fld.OWN_GOAL.tolist())  # (x, y) m
+_NONE = np.zeros(0, dtype=bool)  # no opponent marked before
 
 
 @dataclass
@@ -59,30 +60,11 @@ def opponents_to_mark(
     if k == 0:
         return np.zeros(0, dtype=bool)
     bx, by = np.asarray(ball, dtype=float).reshape(2).tolist()
-    gx, gy = _OWN_GOAL
-    points = opponents.tolist()
-    flags = [False] * k if marked is None else np.broadcast_to(np.asarray(marked, bool), (k,)).tolist()
-    slack = [p.hysteresis if m else 0.0 for m in flags]
-    to_ball = [math.sqrt((x - bx) * (x - bx) + (y - by) * (y - by)) for x, y in points]
-    closest = _argmin(to_ball)
-    return np.array([
-        i != closest
-        and math.sqrt((x - gx) * (x - gx) + (y - gy) * (y - gy)) <= p.shot_range + s
-        and d >= p.min_ball_distance - s
-        and x - bx <= p.max_behind_ball + s
-        for i, ((x, y), d, s) in enumerate(zip(points, to_ball, slack))
-    ], dtype=bool)
-
-
-def _argmin(values: list[float]) -> int:
-    """np.argmin of a non-empty list: the first least value, or the first nan."""
-    best = 0
-    for i, v in enumerate(values):
-        if v != v:
-            return i
-        if v < values[best]:
-            best = i
-    return best
+    flags = _NONE if marked is None else np.asarray(marked, bool)
+    if flags.shape != (k,) and marked is not None:
+        flags = np.ascontiguousarray(np.broadcast_to(flags, (k,)))
+    return _kernels.marking_mask(np.ascontiguousarray(opponents), bx, by, *_OWN_GOAL, flags, p.hysteresis,
+                                 p.shot_range, p.min_ball_distance, p.max_behind_ball)
 
 
 def _norms(d: np.ndarray) -> np.ndarray:

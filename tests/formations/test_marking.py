@@ -91,7 +91,7 @@ def test_full_plan_priorities_and_assignment():
 
 
 def _numpy_opponents_to_mark(opponents, ball, marked=None):
-    """opponents_to_mark on numpy arrays (the spec of the per-opponent float version)."""
+    """opponents_to_mark on numpy arrays (the compiled kernel's spec)."""
     p = marking.MarkingParams()
     k = len(opponents)
     if k == 0:
