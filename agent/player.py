@@ -113,15 +113,16 @@ class Player:
         mates = []
         for u in range(1, TEAM_SIZE + 1):
             o = w.teammate(u)
-            if u == self.unum or not o.known or t - max(o.last_seen, o.last_heard) > MATE_MEMORY:
+            if u == self.unum or t - max(o.last_seen, o.last_heard) > MATE_MEMORY or not o.known:
                 continue
             h = o.heading if math.isfinite(o.heading) else 0.0
-            mates.append(st.Mate(u, float(o.position[0]), float(o.position[1]), h, o.fallen))
+            x, y = o.position[:2].tolist()
+            mates.append(st.Mate(u, x, y, h, o.fallen))
         opps, fallen = [], []
         for u in range(1, TEAM_SIZE + 1):
             o = w.opponent(u)
-            if o.known and t - max(o.last_seen, o.last_heard) <= OPPONENT_MEMORY:
-                opps.append(o.position[:2])
+            if t - max(o.last_seen, o.last_heard) <= OPPONENT_MEMORY and o.known:
+                opps.append(o.position[:2].tolist())
                 fallen.append(o.fallen)
         ball = None
         b = w.ball
@@ -132,7 +133,7 @@ class Player:
         team = mode.team
         return st.TeamView(
             unum=self.unum, time=t, mode=mode, ours=None if team is None else team == self.side,
-            pose=tuple(float(v) for v in w.pose), fallen=w.fallen or self.body.down, ball=ball,
+            pose=tuple(w.pose.tolist()), fallen=w.fallen or self.body.down, ball=ball,
             ball_velocity=w.ball_filter.velocity if ball is not None else np.zeros(2),
             mates=tuple(mates), opponents=np.array(opps).reshape(-1, 2),
             opponents_fallen=np.array(fallen, dtype=bool), kick_targets=kicks)

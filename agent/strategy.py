@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from formations import _kernels as _fkernels
 from formations.delaunay import Formation
 from formations.scram import assign_costs
 from models import field as fld
@@ -126,8 +127,7 @@ def on_ball_player(view: TeamView, exclude: int | None = None) -> int | None:
 
 def role_positions(formation: Formation, ball: np.ndarray, shift: float = 0.0) -> np.ndarray:
     """(10, 2) positions of FIELD_ROLES for a ball position (the formation's lookup)."""
-    pos = formation.positions_at(np.asarray(ball, dtype=float))
-    out = pos[formation.indices(FIELD_ROLES)]
+    out = formation.rows_at(formation.indices(FIELD_ROLES), ball)
     if shift:
         out[1:, 0] = np.clip(out[1:, 0] + shift, -fld.HALF_LENGTH + 0.5, fld.HALF_LENGTH - 0.5)
     return out
@@ -159,13 +159,8 @@ def _disks(obstacles: np.ndarray) -> list[list[float]]:
 def walking_costs(players: Sequence[Mate], targets: np.ndarray) -> np.ndarray:
     """`walking_cost` (no obstacles) of every player (rows) to every target (columns)."""
     xs = np.array([[m.x, m.y, m.heading, m.fallen] for m in players], dtype=float).reshape(-1, 4)
-    t = np.asarray(targets, dtype=float).reshape(-1, 2)
-    dx = t[None, :, 0] - xs[:, None, 0]
-    dy = t[None, :, 1] - xs[:, None, 1]
-    dist = np.hypot(dx, dy)
-    turn = np.abs(wrap(np.arctan2(dy, dx) - xs[:, None, 2])) / math.pi
-    turn = np.where(dist > FACE_BALL_WITHIN, turn, 0.0)
-    return dist + TURN_COST * turn + FALLEN_PENALTY * xs[:, None, 3]
+    t = np.ascontiguousarray(targets, dtype=float).reshape(-1, 2)
+    return _fkernels.walking_costs(xs, t, FACE_BALL_WITHIN, TURN_COST, FALLEN_PENALTY)
 
 
 BALL_RADIUS_PATH = 0.3  # m kept from the ball by a walk that must not push it (PathCost)
@@ -293,21 +288,11 @@ def avoid(me: Sequence[float], target: Sequence[float], obstacles: np.ndarray,
     dist = float(np.hypot(*to_t))
     if dist < 1e-6 or len(obstacles) == 0:
         return t
-    want = to_t / dist
-    rel = np.asarray(obstacles, dtype=float)[:, :2] - p
-    d = np.hypot(rel[:, 0], rel[:, 1])
-    near = (d < proximity) & (d < dist) & (d > 1e-6) & (rel @ want > 0.0)
-    if not near.any():
-        return t
-    i = int(np.argmin(np.where(near, d, np.inf)))
-    u = rel[i] / d[i]
-    left = np.array([-u[1], u[0]])  # tangent passing the obstacle on its right
-    tangent = left if float(left @ want) >= 0 else -left
-    step = tangent
-    if d[i] < collision:
-        step = tangent - u
-    step = step / max(float(np.hypot(*step)), 1e-9)
-    return p + step * min(dist, proximity)
+    px, py = p.tolist()
+    tx, ty = t.tolist()
+    obstacles = np.ascontiguousarray(obstacles, dtype=float)
+    turn, x, y = _fkernels.avoid_step(px, py, tx, ty, dist, obstacles, proximity, collision)
+    return np.array([x, y]) if turn else t
 
 
 def facing(me: Sequence[float], target: Sequence[float], ball: np.ndarray | None) -> float | None:

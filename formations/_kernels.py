@@ -10,6 +10,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
 
 from formations._bigint import mmdr_n5
 from formations._jit import njit
@@ -424,3 +427,322 @@ def msd_points(agents: np.ndarray, targets: np.ndarray, dense_max: int) -> np.nd
 def msd2_points(agents: np.ndarray, targets: np.ndarray, dense_max: int) -> np.ndarray:
     cost, finite = distances(agents, targets)
     return msd2(cost) if finite else _not_finite(agents.shape[0])
+
+
+# ------------------------------------------------------------ Delaunay formations
+# `formation_positions` repeats `scipy.spatial.Delaunay.find_simplex` (default tolerance,
+# its walk from simplex 0 on the lifted paraboloid, then the directed walk, then brute
+# force) and the numpy arithmetic `formations.delaunay` did on its answer: the barycentric
+# product as OpenBLAS's dgemv forms it, the weights' sum from the left and einsum's sum of
+# the three samples from +0.0.
+
+FIND_EPS = 100.0 * np.finfo(np.float64).eps  # find_simplex's default tolerance
+FIND_EPS_BROAD = math.sqrt(FIND_EPS)
+
+
+@intrinsic
+def _fma(typingctx, a, b, c):
+    """a * b + c with one rounding (LLVM's fma)."""
+    def codegen(context, builder, signature, args):
+        fma_type = ir.FunctionType(ir.DoubleType(), [ir.DoubleType()] * 3)
+        return builder.call(builder.module.declare_intrinsic("llvm.fma", [ir.DoubleType()], fma_type), args)
+
+    return types.float64(types.float64, types.float64, types.float64), codegen
+
+
+@njit
+def _outside_box(x: float, y: float, lo: np.ndarray, hi: np.ndarray, eps: float) -> bool:
+    return x < lo[0] - eps or x > hi[0] + eps or y < lo[1] - eps or y > hi[1] + eps
+
+
+@njit
+def _coordinate(t: np.ndarray, s: int, k: int, x: float, y: float) -> float:
+    """Barycentric coordinate k < 2 of (x, y) in simplex s (scipy's order of operations)."""
+    c = 0.0
+    c += t[s, k, 0] * (x - t[s, 2, 0])
+    c += t[s, k, 1] * (y - t[s, 2, 1])
+    return c
+
+
+@njit
+def _bruteforce(x: float, y: float, lo: np.ndarray, hi: np.ndarray, neighbors: np.ndarray,
+                t: np.ndarray, eps: float, eps_broad: float) -> int:
+    """The first simplex holding (x, y) within eps, degenerate ones judged by their neighbors."""
+    if _outside_box(x, y, lo, hi, eps):
+        return -1
+    c = np.empty(3)
+    for s in range(t.shape[0]):
+        if t[s, 0, 0] == t[s, 0, 0]:
+            c0 = _coordinate(t, s, 0, x, y)
+            if not (-eps <= c0 <= 1.0 + eps):
+                continue
+            c1 = _coordinate(t, s, 1, x, y)
+            if not (-eps <= c1 <= 1.0 + eps):
+                continue
+            c2 = 1.0 - c0 - c1
+            if -eps <= c2 <= 1.0 + eps:
+                return s
+            continue
+        for k in range(3):
+            nb = neighbors[s, k]
+            if nb == -1 or t[nb, 0, 0] != t[nb, 0, 0]:
+                continue
+            c[0] = _coordinate(t, nb, 0, x, y)
+            c[1] = _coordinate(t, nb, 1, x, y)
+            c[2] = 1.0 - c[0] - c[1]
+            inside = True
+            for m in range(3):
+                low = -eps_broad if neighbors[nb, m] == s else -eps
+                if not (low <= c[m] <= 1.0 + eps):
+                    inside = False
+                    break
+            if inside:
+                return nb
+    return -1
+
+
+@njit
+def find_simplex(x: float, y: float, lo: np.ndarray, hi: np.ndarray, equations: np.ndarray,
+                 neighbors: np.ndarray, t: np.ndarray, scale: float, shift: float) -> int:
+    """`Delaunay.find_simplex` of one point (x, y): the simplex index, -1 outside."""
+    eps, eps_broad = FIND_EPS, FIND_EPS_BROAD
+    n = t.shape[0]
+    if _outside_box(x, y, lo, hi, eps) or n <= 0:
+        return -1
+    z = 0.0
+    z += x * x
+    z += y * y
+    z *= scale
+    z += shift
+    s = 0
+    best = _plane(equations, s, x, y, z)
+    changed = True
+    while changed:
+        if best > 0:
+            break
+        changed = False
+        for k in range(3):
+            nb = neighbors[s, k]
+            if nb == -1:
+                continue
+            d = _plane(equations, nb, x, y, z)
+            if d > best + eps * (1.0 + abs(best)):
+                s, best, changed = nb, d, True
+    for _ in range(1 + n // 4):
+        if s == -1:
+            return s
+        inside = 1
+        c0 = c1 = 0.0
+        for k in range(3):
+            if k == 0:
+                c = c0 = _coordinate(t, s, 0, x, y)
+            elif k == 1:
+                c = c1 = _coordinate(t, s, 1, x, y)
+            else:
+                c = 1.0 - c0 - c1
+            if c < -eps:
+                nb = neighbors[s, k]
+                if nb == -1:
+                    return -1
+                s = nb
+                inside = -1
+                break
+            if not c <= 1.0 + eps:
+                inside = 0
+        if inside == 1:
+            return s
+        if inside == 0:
+            return _bruteforce(x, y, lo, hi, neighbors, t, eps, eps_broad)
+    return _bruteforce(x, y, lo, hi, neighbors, t, eps, eps_broad)
+
+
+@njit
+def _plane(equations: np.ndarray, s: int, x: float, y: float, z: float) -> float:
+    """Signed distance of the lifted point (x, y, z) to simplex s's facet (qh_distplane)."""
+    d = equations[s, 3]
+    d += equations[s, 0] * x
+    d += equations[s, 1] * y
+    d += equations[s, 2] * z
+    return d
+
+
+@njit
+def _weights(x: float, y: float, t: np.ndarray, s: int) -> tuple[float, float, float]:
+    """Barycentric weights of (x, y) in simplex s, clipped to [0, 1] and normalized."""
+    d0 = x - t[s, 2, 0]
+    d1 = y - t[s, 2, 1]
+    b0 = _fma(t[s, 0, 0], d0, t[s, 0, 1] * d1)
+    b1 = _fma(t[s, 1, 0], d0, t[s, 1, 1] * d1)
+    w0, w1, w2 = _unit(b0), _unit(b1), _unit(1.0 - b0 - b1)
+    total = w0 + w1 + w2
+    return w0 / total, w1 / total, w2 / total
+
+
+@njit
+def _unit(w: float) -> float:
+    """np.clip(w, 0, 1) (-0.0 and nan kept)."""
+    return 0.0 if w < 0.0 else (1.0 if w > 1.0 else w)
+
+
+@njit
+def _nearest(balls: np.ndarray, x: float, y: float) -> int:
+    """np.argmin of the squared distances of the samples to (x, y) (the first nan wins)."""
+    best, best_d = 0, math.inf
+    for k in range(balls.shape[0]):
+        dx = balls[k, 0] - x
+        dy = balls[k, 1] - y
+        d = dx * dx + dy * dy
+        if d != d:
+            return k
+        if d < best_d:
+            best, best_d = k, d
+    return best
+
+
+@njit
+def _interpolate(x: float, y: float, lo_box: np.ndarray, hi_box: np.ndarray, equations: np.ndarray,
+                 neighbors: np.ndarray, t: np.ndarray, simplices: np.ndarray, scale: float,
+                 shift: float, balls: np.ndarray, positions: np.ndarray, follow: np.ndarray,
+                 lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(roles, 2) positions for the ball at (x, y): barycentric in its simplex (exactly a
+    sample's at the sample), the nearest sample's outside; followers at the ball; clipped."""
+    n_roles = positions.shape[1]
+    pos = np.empty((n_roles, 2))
+    s = find_simplex(x, y, lo_box, hi_box, equations, neighbors, t, scale, shift) if t.shape[0] else -1
+    if s >= 0:
+        w0, w1, w2 = _weights(x, y, t, s)
+        i0, i1, i2 = simplices[s, 0], simplices[s, 1], simplices[s, 2]
+        exact = -1
+        for j in (i0, i1, i2):
+            if balls[j, 0] == x and balls[j, 1] == y:
+                exact = j
+                break
+        for r in range(n_roles):
+            for d in range(2):
+                if exact >= 0:
+                    pos[r, d] = positions[exact, r, d]
+                else:
+                    pos[r, d] = ((0.0 + w0 * positions[i0, r, d]) + w1 * positions[i1, r, d]
+                                 ) + w2 * positions[i2, r, d]
+    else:
+        pos[:, :] = positions[_nearest(balls, x, y)]
+    for r in range(n_roles):
+        if follow[r]:
+            pos[r, 0] = x
+            pos[r, 1] = y
+        for d in range(2):
+            v = pos[r, d]
+            v = v if (v > lo[d] or v != v) else lo[d]
+            pos[r, d] = v if (v < hi[d] or v != v) else hi[d]
+    return pos
+
+
+@njit
+def formation_positions(bx: float, by: float, rows: np.ndarray, mirror: np.ndarray,
+                        lo_box: np.ndarray, hi_box: np.ndarray, equations: np.ndarray,
+                        neighbors: np.ndarray, t: np.ndarray, simplices: np.ndarray, scale: float,
+                        shift: float, balls: np.ndarray, positions: np.ndarray, follow: np.ndarray,
+                        lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(len(rows), 2) positions of the roles `rows` for the ball at (bx, by) (m), as
+    `formations.delaunay.Formation` defines them. A non-empty `mirror` (each role's
+    partner) makes a ball at y < 0 the mirror image of the ball at -y."""
+    flip = mirror.shape[0] > 0 and by < 0
+    full = _interpolate(bx, -by if flip else by, lo_box, hi_box, equations, neighbors, t, simplices,
+                        scale, shift, balls, positions, follow, lo, hi)
+    out = np.empty((rows.shape[0], 2))
+    for i in range(rows.shape[0]):
+        if flip:
+            r = mirror[rows[i]]
+            out[i, 0] = full[r, 0]
+            out[i, 1] = -full[r, 1]
+        else:
+            out[i, 0] = full[rows[i], 0]
+            out[i, 1] = full[rows[i], 1]
+    return out
+
+
+# ------------------------------------------------------------------ walking costs
+
+@njit
+def walking_costs(players: np.ndarray, targets: np.ndarray, face_within: float, turn_cost: float,
+                  fallen_penalty: float) -> np.ndarray:
+    """(k, m) costs (m) of (k, 4) players (x, y, heading, fallen 0/1) walking to (m, 2)
+    targets: the distance, `turn_cost` per half turn toward the target when farther than
+    `face_within`, `fallen_penalty` for a fallen player (numpy's elementwise order and
+    libm's hypot and atan2, as `agent.strategy.walking_costs` computed them)."""
+    k, m = players.shape[0], targets.shape[0]
+    out = np.empty((k, m))
+    for i in range(k):
+        x, y, heading, fallen = players[i, 0], players[i, 1], players[i, 2], players[i, 3]
+        for j in range(m):
+            dx = targets[j, 0] - x
+            dy = targets[j, 1] - y
+            dist = math.hypot(dx, dy)
+            turn = 0.0
+            if dist > face_within:
+                turn = abs((math.atan2(dy, dx) - heading + math.pi) % (2.0 * math.pi) - math.pi) / math.pi
+            out[i, j] = dist + turn_cost * turn + fallen_penalty * fallen
+    return out
+
+
+@njit
+def avoid_step(px: float, py: float, tx: float, ty: float, dist: float, obstacles: np.ndarray,
+               proximity: float, collision: float) -> tuple[bool, float, float]:
+    """`agent.strategy.avoid` past its early returns, from (px, py) toward (tx, ty) at
+    `dist` (m, > 1e-6) with (k >= 1, 2+) obstacles: (False, ...) to keep the target, else
+    (True, x, y), the point to walk toward. The products repeat numpy's: the obstacles'
+    (k, 2) @ (2,) is fma(a0, v0, a1 v1) per row for k >= 2 (OpenBLAS's dgemv), the one row
+    and the 2-vector dot are (a0 v0 + a1 v1)."""
+    wx = (tx - px) / dist
+    wy = (ty - py) / dist
+    k = obstacles.shape[0]
+    best, best_d = -1, math.inf
+    for i in range(k):
+        rx = obstacles[i, 0] - px
+        ry = obstacles[i, 1] - py
+        d = math.hypot(rx, ry)
+        ahead = _fma(rx, wx, ry * wy) if k >= 2 else rx * wx + ry * wy
+        if d < proximity and d < dist and d > 1e-6 and ahead > 0.0 and d < best_d:
+            best, best_d = i, d
+    if best < 0:
+        return False, 0.0, 0.0
+    ux = (obstacles[best, 0] - px) / best_d
+    uy = (obstacles[best, 1] - py) / best_d
+    sx, sy = -uy, ux  # the tangent passing the obstacle on its right ...
+    if not sx * wx + sy * wy >= 0:
+        sx, sy = -sx, -sy  # ... or on its left, whichever leads on
+    if best_d < collision:
+        sx, sy = sx - ux, sy - uy
+    norm = math.hypot(sx, sy)
+    norm = 1e-9 if 1e-9 > norm else norm
+    reach = proximity if proximity < dist else dist
+    return True, px + sx / norm * reach, py + sy / norm * reach
+
+
+# ---------------------------------------------------------------------- marking
+
+@njit
+def marking_mask(opponents: np.ndarray, bx: float, by: float, gx: float, gy: float, marked: np.ndarray,
+                 hysteresis: float, shot_range: float, min_ball_distance: float,
+                 max_behind_ball: float) -> np.ndarray:
+    """`formations.marking.opponents_to_mark` of (k >= 1, 2) opponents, the ball at (bx, by)
+    and our goal at (gx, gy) (m); `marked` (k,) or empty for none. The opponent nearest
+    the ball is np.argmin's: the first least distance, or the first nan."""
+    k = opponents.shape[0]
+    to_ball = np.empty(k)
+    closest = -1
+    for i in range(k):
+        dx = opponents[i, 0] - bx
+        dy = opponents[i, 1] - by
+        d = math.sqrt(dx * dx + dy * dy)
+        to_ball[i] = d
+        if closest < 0 or (to_ball[closest] == to_ball[closest] and (d != d or d < to_ball[closest])):
+            closest = i
+    out = np.empty(k, np.bool_)
+    for i in range(k):
+        s = hysteresis if marked.shape[0] and marked[i] else 0.0
+        dx = opponents[i, 0] - gx
+        dy = opponents[i, 1] - gy
+        out[i] = (i != closest and math.sqrt(dx * dx + dy * dy) <= shot_range + s
+                  and to_ball[i] >= min_ball_distance - s and opponents[i, 0] - bx <= max_behind_ball + s)
+    return out

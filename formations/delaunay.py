@@ -33,10 +33,10 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import Delaunay, QhullError
 
+from formations import _kernels
 from formations import field as fld
 
 DEFAULT_FORMATION = "default.formation"
-_FLIP = np.array([1.0, -1.0])  # y -> -y
 
 
 class FormationFileError(ValueError):
@@ -77,11 +77,23 @@ class Formation:
             except QhullError:  # all samples collinear: nearest sample only
                 self._tri = None
         self._follow = np.array([r in self.follow for r in self.roles], dtype=bool)
-        self._any_follow = bool(self._follow.any())
-        self._ball_list = [tuple(b) for b in self.balls.tolist()]
         self._mirror_index = None if self.mirror is None else np.array(self.mirror, dtype=np.int64)
         self._lo, self._hi = fld.field_box(self.margin)
         self._indices: dict[tuple[str, ...], np.ndarray] = {}
+        self._all_rows = np.arange(len(self.roles), dtype=np.int64)
+        self._tables = self._kernel_tables()
+
+    def _kernel_tables(self) -> tuple:
+        """The triangulation's arrays `_kernels.formation_positions` walks (empty without one)."""
+        tri = self._tri
+        if tri is None:
+            return (np.zeros(2), np.zeros(2), np.zeros((0, 4)), np.zeros((0, 3), np.intc),
+                    np.zeros((0, 3, 2)), np.zeros((0, 3), np.intc), 1.0, 0.0)
+        c = np.ascontiguousarray
+        return (c(tri.min_bound, dtype=float), c(tri.max_bound, dtype=float),
+                c(tri.equations, dtype=float), c(tri.neighbors, dtype=np.intc),
+                c(tri.transform, dtype=float), c(tri.simplices, dtype=np.intc),
+                float(tri.paraboloid_scale), float(tri.paraboloid_shift))
 
     @property
     def triangulation(self) -> Delaunay | None:
@@ -113,30 +125,22 @@ class Formation:
     def positions_at(self, ball: np.ndarray) -> np.ndarray:
         """(roles, 2) role positions for a ball at `ball` (2,), field frame, meters.
 
-        A symmetric formation evaluates balls with y < 0 as the mirror image of
-        the ball at -y, so its output is exactly left-right symmetric.
+        Inside the samples' hull: the positions of the Delaunay triangle holding
+        the ball (`Delaunay.find_simplex`), weighted by its barycentric
+        coordinates clipped to [0, 1] and normalized, and exactly a sample's
+        positions at the sample; outside: the nearest sample's. Roles in
+        `follow` stand at the ball; all are clipped to the field shrunk by
+        `margin`. A symmetric formation evaluates balls with y < 0 as the mirror
+        image of the ball at -y, so its output is exactly left-right symmetric.
         """
-        ball = np.asarray(ball, dtype=float).reshape(2)
-        if self._mirror_index is not None and ball[1] < 0:
-            return self._positions_at(ball * _FLIP)[self._mirror_index] * _FLIP
-        return self._positions_at(ball)
+        return self.rows_at(self._all_rows, ball)
 
-    def _positions_at(self, ball: np.ndarray) -> np.ndarray:
-        idx, w = self.weights(ball)
-        if idx.size == 1:
-            pos = self.positions[idx[0]].copy()
-        else:
-            w = w / w.sum()
-            pos = np.einsum("k,krd->rd", w, self.positions[idx])
-            # Exact at the samples themselves (no rounding from the weights).
-            bx, by = ball.tolist()
-            for j in idx.tolist():
-                if self._ball_list[j] == (bx, by):
-                    pos = self.positions[j].copy()
-                    break
-        if self._any_follow:
-            pos[self._follow] = ball
-        return np.minimum(np.maximum(pos, self._lo), self._hi)  # = np.clip, in half the time
+    def rows_at(self, rows: np.ndarray, ball: np.ndarray) -> np.ndarray:
+        """(len(rows), 2) positions of the roles of indices `rows` (int64) for `ball` (2,), m."""
+        bx, by = np.asarray(ball, dtype=float).reshape(2).tolist()
+        mirror = self._mirror_index if self._mirror_index is not None else self._all_rows[:0]
+        return _kernels.formation_positions(bx, by, rows, mirror, *self._tables, self.balls, self.positions,
+                                            self._follow, self._lo, self._hi)
 
     def position(self, role: str, ball: np.ndarray) -> np.ndarray:
         return self.positions_at(ball)[self.index(role)]

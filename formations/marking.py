@@ -18,8 +18,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from formations import _kernels
 from formations import field as fld
 from formations import priority as prio
+
+_OWN_GOAL = tuple(fld.OWN_GOAL.tolist())  # (x, y) m
+_NONE = np.zeros(0, dtype=bool)  # no opponent marked before
 
 
 @dataclass
@@ -52,21 +56,15 @@ def opponents_to_mark(
     """
     p = params or MarkingParams()
     opponents = np.asarray(opponents, dtype=float).reshape(-1, 2)
-    ball = np.asarray(ball, dtype=float)
     k = len(opponents)
     if k == 0:
         return np.zeros(0, dtype=bool)
-    slack = 0.0 if marked is None else np.where(np.asarray(marked, bool), p.hysteresis, 0)
-    to_goal = _norms(opponents - fld.OWN_GOAL)
-    to_ball = _norms(opponents - ball)
-    not_closest = np.ones(k, dtype=bool)
-    not_closest[int(np.argmin(to_ball))] = False
-    return (
-        (to_goal <= p.shot_range + slack)
-        & not_closest
-        & (to_ball >= p.min_ball_distance - slack)
-        & (opponents[:, 0] - ball[0] <= p.max_behind_ball + slack)
-    )
+    bx, by = np.asarray(ball, dtype=float).reshape(2).tolist()
+    flags = _NONE if marked is None else np.asarray(marked, bool)
+    if flags.shape != (k,) and marked is not None:
+        flags = np.ascontiguousarray(np.broadcast_to(flags, (k,)))
+    return _kernels.marking_mask(np.ascontiguousarray(opponents), bx, by, *_OWN_GOAL, flags, p.hysteresis,
+                                 p.shot_range, p.min_ball_distance, p.max_behind_ball)
 
 
 def _norms(d: np.ndarray) -> np.ndarray:
@@ -166,12 +164,15 @@ def plan(
     p = params or MarkingParams()
     formation = np.asarray(formation, dtype=float)
     mask = opponents_to_mark(opponents, ball, marked, p)
-    opponents = np.asarray(opponents, dtype=float).reshape(-1, 2)
-    marked_ids = np.flatnonzero(mask)
-    spots = marking_positions(opponents[marked_ids], p.mark_distance)  # row by row: a subset is exact
-    marks = {int(i): spot for i, spot in zip(marked_ids.tolist(), spots)}
-    replaceable = np.array([r not in keep for r in roles], dtype=bool)
-    selection = select_roles(formation, replaceable, marks, previous, p.reselect_gain)
+    selection = RoleSelection()
+    marks: dict[int, np.ndarray] = {}
+    if mask.any():
+        opponents = np.asarray(opponents, dtype=float).reshape(-1, 2)
+        marked_ids = np.flatnonzero(mask)
+        spots = marking_positions(opponents[marked_ids], p.mark_distance)  # row by row: a subset is exact
+        marks = {int(i): spot for i, spot in zip(marked_ids.tolist(), spots)}
+        replaceable = np.array([r not in keep for r in roles], dtype=bool)
+        selection = select_roles(formation, replaceable, marks, previous, p.reselect_gain)
     targets = formation.copy()
     pri = np.zeros(len(roles))
     dist = np.zeros(len(roles))

@@ -12,6 +12,7 @@ import pytest
 from agent import strategy as st
 from formations.delaunay import Formation
 from models import field as fld
+from models.geometry import wrap
 from models.rules import PlayMode
 
 
@@ -169,3 +170,72 @@ def test_walking_costs_match_the_single_cost():
     targets = rng.uniform(-10, 10, (5, 2))
     want = np.array([[st.walking_cost(m, t) for t in targets] for m in players])
     assert np.allclose(st.walking_costs(players, targets), want, rtol=0, atol=1e-12)
+
+
+def _numpy_walking_costs(players, targets):
+    """walking_costs as numpy computes it elementwise (the compiled kernel's spec)."""
+    xs = np.array([[m.x, m.y, m.heading, m.fallen] for m in players], dtype=float).reshape(-1, 4)
+    t = np.asarray(targets, dtype=float).reshape(-1, 2)
+    dx = t[None, :, 0] - xs[:, None, 0]
+    dy = t[None, :, 1] - xs[:, None, 1]
+    dist = np.hypot(dx, dy)
+    turn = np.abs(wrap(np.arctan2(dy, dx) - xs[:, None, 2])) / math.pi
+    turn = np.where(dist > st.FACE_BALL_WITHIN, turn, 0.0)
+    return dist + st.TURN_COST * turn + st.FALLEN_PENALTY * xs[:, None, 3]
+
+
+def test_walking_costs_equal_numpy_bit_for_bit():
+    rng = np.random.default_rng(1)
+    for _ in range(3000):
+        k, n = rng.integers(0, 11, 2)
+        players = [st.Mate(u, *rng.uniform([-15, -10], [15, 10]), rng.uniform(-7, 7),
+                           bool(rng.random() < 0.3)) for u in range(k)]
+        targets = rng.uniform([-15, -10], [15, 10], size=(n, 2))
+        if k and n and rng.random() < 0.3:  # on the grid, one target exactly FACE_BALL_WITHIN away
+            players = [st.Mate(m.unum, round(m.x), round(m.y), m.heading, m.fallen) for m in players]
+            targets = np.round(targets)
+            targets[0] = (players[0].x + st.FACE_BALL_WITHIN, players[0].y)
+        got, want = st.walking_costs(players, targets), _numpy_walking_costs(players, targets)
+        assert got.shape == want.shape and got.tobytes() == want.tobytes()
+
+
+def _numpy_avoid(me, target, obstacles, proximity=st.PROXIMITY, collision=st.COLLISION):
+    """avoid on numpy arrays (the compiled kernel's spec)."""
+    p = np.asarray(me[:2], dtype=float)
+    t = np.asarray(target[:2], dtype=float)
+    to_t = t - p
+    dist = float(np.hypot(*to_t))
+    if dist < 1e-6 or len(obstacles) == 0:
+        return t
+    want = to_t / dist
+    rel = np.asarray(obstacles, dtype=float)[:, :2] - p
+    d = np.hypot(rel[:, 0], rel[:, 1])
+    near = (d < proximity) & (d < dist) & (d > 1e-6) & (rel @ want > 0.0)
+    if not near.any():
+        return t
+    i = int(np.argmin(np.where(near, d, np.inf)))
+    u = rel[i] / d[i]
+    left = np.array([-u[1], u[0]])
+    tangent = left if float(left @ want) >= 0 else -left
+    step = tangent - u if d[i] < collision else tangent
+    step = step / max(float(np.hypot(*step)), 1e-9)
+    return p + step * min(dist, proximity)
+
+
+def test_avoid_equals_numpy_bit_for_bit():
+    """Random walks and obstacles, some placed across the walk to 1e-16 m, where the sign
+    of numpy's product (OpenBLAS's fused multiply-add) decides whether they count."""
+    rng = np.random.default_rng(2)
+    for _ in range(20000):
+        k = int(rng.integers(0, 22))
+        me = tuple(rng.uniform([-15, -10, -4], [15, 10, 4]).tolist())
+        target = np.array(me[:2]) + rng.normal(size=2) * rng.choice([1e-7, 0.3, 1.0, 3.0])
+        obstacles = np.array(me[:2]) + rng.normal(size=(k, 2)) * rng.choice([0.3, 1.0, 3.0])
+        if k and rng.random() < 0.5:
+            w = (target - me[:2]) / np.hypot(*(target - me[:2]))
+            obstacles[int(rng.integers(k))] = (me[:2] + rng.uniform(0.1, 1.2) * np.array([-w[1], w[0]])
+                                               + w * rng.normal() * 1e-16)
+        if rng.random() < 0.2:
+            obstacles, target = np.round(obstacles * 4) / 4, np.round(target * 4) / 4
+        got, want = st.avoid(me, target, obstacles), _numpy_avoid(me, target, obstacles)
+        assert got.tobytes() == want.tobytes()

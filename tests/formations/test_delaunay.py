@@ -2,15 +2,19 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import formations
 from formations import field
 from formations.delaunay import Formation, FormationFileError, parse
 
 DEFAULT = Formation.default()
+DATA = Path(formations.__file__).parent / "data"
 
 SMALL = """
 # three samples
@@ -152,3 +156,67 @@ def test_load_from_path(tmp_path):
     p.write_text("roles a\nsample 0 0\na 1 q\n")
     with pytest.raises(FormationFileError, match=r"x\.formation:3: .*'q'"):
         Formation.load(p)
+
+
+# ------------------------------------------- the compiled lookup against scipy and numpy
+
+_FLIP = np.array([1.0, -1.0])
+
+
+def _numpy_positions_at(f: Formation, ball: np.ndarray) -> np.ndarray:
+    """positions_at as scipy's find_simplex and numpy compute it (the compiled kernel's spec)."""
+    ball = np.asarray(ball, dtype=float).reshape(2)
+    if f.mirror is not None and ball[1] < 0:
+        return _numpy_positions_at(f, ball * _FLIP)[np.array(f.mirror)] * _FLIP
+    idx, w = f.weights(ball)
+    if idx.size == 1:
+        pos = f.positions[idx[0]].copy()
+    else:
+        pos = np.einsum("k,krd->rd", w / w.sum(), f.positions[idx])
+        for j in idx.tolist():
+            if tuple(f.balls[j].tolist()) == tuple(ball.tolist()):
+                pos = f.positions[j].copy()
+                break
+    follow = np.array([r in f.follow for r in f.roles], dtype=bool)
+    pos[follow] = ball
+    lo, hi = field.field_box(f.margin)
+    return np.minimum(np.maximum(pos, lo), hi)
+
+
+def _probe_balls(f: Formation, rng: np.random.Generator, n: int) -> np.ndarray:
+    """Random balls, the samples, points on and within 1e-15 and 1e-12 m of the triangles'
+    edges and vertices (where find_simplex's tolerance and walk decide), outside the hull."""
+    b = f.balls
+    pts = [rng.uniform([-16, -11], [16, 11], size=(n, 2)), b, b * _FLIP, b + 1e-14]
+    if f.triangulation is not None:
+        s = f.triangulation.simplices
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            for u in (rng.uniform(0, 1), 0.5):
+                e = b[s[:, i]] + u * (b[s[:, j]] - b[s[:, i]])
+                pts += [e] + [e + rng.normal(size=e.shape) * scale for scale in (1e-15, 1e-12)]
+    lo, hi = b.min(axis=0), b.max(axis=0)
+    pts.append(np.array([[lo[0], 0.0], [hi[0] + 1e-14, 0.0], [0.0, lo[1] - 1e-14], [np.nan, 0.0],
+                         [0.0, -0.0], [-0.0, -0.0]]))
+    return np.concatenate(pts)
+
+
+def _random_formation(rng: np.random.Generator, k: int) -> Formation:
+    balls = rng.uniform([-14, -9], [14, 9], size=(int(rng.integers(1, 25)), 2))
+    balls = np.unique(np.round(balls, k % 3), axis=0)  # grids: collinear and cocircular samples
+    pos = rng.uniform([-14, -9], [14, 9], size=(len(balls), 3, 2))
+    return Formation(("a", "b", "c"), balls, pos, follow=("b",) if k % 2 else (), margin=0.4 * (k % 3),
+                     mirror=(1, 0, 2) if k % 3 == 0 else None)
+
+
+def test_compiled_lookup_equals_scipy_and_numpy_bit_for_bit():
+    rng = np.random.default_rng(7)
+    formations = [Formation.load(p) for p in sorted(DATA.glob("*.formation"))]
+    formations += [_random_formation(rng, k) for k in range(6)]
+    formations.append(Formation(("a",), [[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], rng.normal(size=(3, 1, 2))))
+    for f in formations:
+        for ball in _probe_balls(f, rng, 300):
+            want = _numpy_positions_at(f, ball)
+            got = f.positions_at(ball)
+            assert got.tobytes() == want.tobytes(), (f.name, ball.tolist())
+            rows = np.array([len(f.roles) - 1, 0], dtype=np.int64)
+            assert f.rows_at(rows, ball).tobytes() == want[rows].tobytes()

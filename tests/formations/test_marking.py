@@ -88,3 +88,36 @@ def test_full_plan_priorities_and_assignment():
     agents = np.random.default_rng(5).uniform([-15, -10], [15, 10], (len(f.roles), 2))
     a = plan.assign(agents)
     assert sorted(a.tolist()) == list(range(len(f.roles)))
+
+
+def _numpy_opponents_to_mark(opponents, ball, marked=None):
+    """opponents_to_mark on numpy arrays (the compiled kernel's spec)."""
+    p = marking.MarkingParams()
+    k = len(opponents)
+    if k == 0:
+        return np.zeros(0, dtype=bool)
+    slack = 0.0 if marked is None else np.where(np.asarray(marked, bool), p.hysteresis, 0)
+    to_goal = np.sqrt(np.sum((opponents - field.OWN_GOAL) ** 2, axis=1))
+    to_ball = np.sqrt(np.sum((opponents - ball) ** 2, axis=1))
+    not_closest = np.ones(k, dtype=bool)
+    not_closest[int(np.argmin(to_ball))] = False
+    return ((to_goal <= p.shot_range + slack) & not_closest & (to_ball >= p.min_ball_distance - slack)
+            & (opponents[:, 0] - ball[0] <= p.max_behind_ball + slack))
+
+
+def test_whom_to_mark_equals_the_numpy_rules_exactly():
+    rng = np.random.default_rng(3)
+    for _ in range(3000):
+        k = int(rng.integers(0, 12))
+        opp = rng.uniform([-16, -11], [16, 11], size=(k, 2))
+        ball = rng.uniform([-16, -11], [16, 11], size=2)
+        if rng.random() < 0.3:  # ties and exact thresholds
+            opp, ball = np.round(opp * 4) / 4, np.round(ball * 4) / 4
+        if k and rng.random() < 0.2:
+            ball = opp[int(rng.integers(k))] + rng.normal(size=2) * rng.choice([0.0, 1e-12, 1.0])
+        if k and rng.random() < 0.05:
+            opp[int(rng.integers(k))] = np.nan
+        marked = None if rng.random() < 0.5 else rng.random(k) < 0.5
+        got = marking.opponents_to_mark(opp, ball, marked)
+        assert got.dtype == bool
+        np.testing.assert_array_equal(got, _numpy_opponents_to_mark(opp, ball, marked))
