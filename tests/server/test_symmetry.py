@@ -14,6 +14,7 @@ import pytest
 from agent.player import Player
 from models.scene import Lineup
 from server.match import Match
+from server.sensors import Proprioception
 from server.vision import VisionSensor
 from server.world import World
 from tests.agent.test_symmetry import TURNED
@@ -102,15 +103,18 @@ def test_every_right_player_sees_what_its_left_twin_saw(played):
         np.testing.assert_allclose(np.array(la).reshape(-1, 6), np.array(lb).reshape(-1, 6), atol=1e-9)
 
 
-def test_the_turned_world_steps_the_same(played):
-    """20 ms of physics from the turned state stays the turned state (contact order aside)."""
+def test_the_turned_world_steps_and_feels_the_same(played):
+    """20 ms of physics from the turned state stays the turned state (to round-off: the
+    contact order differs), and every right player's body senses what its twin's did."""
     turned = turn(played)
     n = len(played.players) // 2
-    for _ in range(4):
-        mujoco.mj_step(played.model, played.data)
-        mujoco.mj_step(turned.model, turned.data)
+    played.step(played.data.ctrl.copy())
+    turned.step(turned.data.ctrl.copy())
+    body_a, body_b = Proprioception(played).read(), Proprioception(turned).read()
     for i, p in enumerate(played.players):
         q = turned.players[(i + n) % (2 * n)]
         np.testing.assert_allclose(turned.data.qpos[q.joint_qpos], played.data.qpos[p.joint_qpos], atol=1e-12)
         np.testing.assert_allclose(turned.data.qpos[q.root_qpos:q.root_qpos + 2],
                                    -played.data.qpos[p.root_qpos:p.root_qpos + 2], atol=1e-12)
+        for a, b, what in zip(body_a[i], body_b[(i + n) % (2 * n)], ("joints", "gyro", "accel", "soles")):
+            np.testing.assert_allclose(b, a, atol=1e-7, err_msg=f"{p.name} {what}")
