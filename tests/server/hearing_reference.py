@@ -1,12 +1,6 @@
-"""Say and hear: the league's 20-character team messages.
-
-A message said in one cycle is heard at the start of the next by every player
-within 50 m. Each listener hears at most one message from its own team and one
-from the other team in every two-cycle window (SimSpark's hearing capacity),
-chosen at random among those said; a speaker always hears itself. A message
-longer than 20 characters or with a character outside 0x21..0x7E (less '(' and
-')') is dropped, and only its speaker is told why.
-"""
+"""The interpreted hearing the compiled one replaced, kept as the tests' reference:
+`server.hearing.Hearing.route` must answer as this one does, draw for draw (the rules
+are in `server.hearing`'s docstring)."""
 
 from __future__ import annotations
 
