@@ -33,6 +33,7 @@ import scipy
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from formations import priority, scram  # noqa: E402
+from optimization.executor import one_thread  # noqa: E402
 
 # Paper figures: Table 2 (ms), Table 4, Table 6.1.
 PAPER_TIME_MS = {
@@ -229,7 +230,7 @@ def run_trials(trials: int, methods, prioritized: bool, seed: int, workers: int)
     sizes = [trials // chunks + (i < trials % chunks) for i in range(chunks)]
     jobs = [(seed + i, s, methods, prioritized) for i, s in enumerate(sizes) if s]
     if workers > 1:
-        with ProcessPoolExecutor(workers) as pool:
+        with ProcessPoolExecutor(workers, initializer=one_thread) as pool:
             parts = list(pool.map(_t4_chunk, jobs))
     else:
         parts = [_t4_chunk(j) for j in jobs]

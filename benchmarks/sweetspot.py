@@ -46,6 +46,7 @@ import numpy as np
 from tqdm import tqdm
 
 from benchmarks.machine import machine
+from optimization.executor import one_thread
 from optimization.kick import kick_trial
 from skills.kicks.keyframe import keyframe_kicks
 
@@ -195,7 +196,7 @@ def main(argv: list[str] | None = None) -> int:
     print(json.dumps({"machine": machine()}), flush=True)
     cells = (2 * round(args.half / args.step) + 1) ** 2
     total = len(plan) * cells * 2 * args.tries
-    pool = Pool(args.workers) if args.workers > 1 else None
+    pool = Pool(args.workers, initializer=one_thread) if args.workers > 1 else None
     try:
         with tqdm(total=total, unit="kick", file=sys.stderr, disable=None) as bar:
             for t, s in plan:

@@ -46,6 +46,7 @@ from agent.posture import PostureAgent
 from agent.teamconfig import VILLA
 from benchmarks.machine import machine
 from models.rules import PlayMode
+from optimization.executor import one_thread
 from server.match import Match
 
 KICK_MOVED = 1.0  # m the ball must move within 3 s of a kick's start for the kick to count
@@ -197,7 +198,7 @@ def main() -> None:
     if args.only in (None, "sync"):
         jobs += [("sync", ("villa", "posture", args.seed, args.sync_half_time, v)) for v in (True, False)]
     rows: dict[str, list[dict]] = {}
-    with ProcessPoolExecutor(args.workers) as pool:
+    with ProcessPoolExecutor(args.workers, initializer=one_thread) as pool:
         futures = [(kind, pool.submit(play, *a)) for kind, a in jobs]
         for kind, f in futures:
             row = f.result()

@@ -11,6 +11,11 @@ worker count or scheduling. A trial that raises, or whose worker dies, is
 retried once (on a rebuilt pool when a local worker died and broke it); if it
 fails again it gets the task's worst fitness and the reason is logged. The
 job goes on.
+
+Each local worker runs its BLAS and OpenMP libraries on one thread
+(`one_thread`): a worker is one match or trial on one core, and two workers'
+thread pools spinning against each other on a 2-core machine made building a
+match 5x slower.
 """
 
 from __future__ import annotations
@@ -61,6 +66,18 @@ def run_trial(task: Task, request: TrialRequest) -> TrialResult:
     return result
 
 
+def one_thread() -> None:
+    """Limit this process's BLAS and OpenMP thread pools to one thread: those loaded
+    (numpy's OpenBLAS) through threadpoolctl, those loaded later (scipy's OpenBLAS,
+    pinocchio's OpenMP) through the variables they read when they load. The
+    initializer of local worker processes."""
+    from threadpoolctl import threadpool_limits
+
+    for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[name] = "1"
+    threadpool_limits(1)
+
+
 class InlineExecutor(cf.Executor):
     """Runs each call at submit time in this process (``--workers 0``)."""
 
@@ -101,7 +118,7 @@ class ExecutorFactory:
             return self.client.get_executor(pure=False)
         if self.workers == 0:
             return InlineExecutor()
-        return cf.ProcessPoolExecutor(max_workers=self.workers or os.cpu_count())
+        return cf.ProcessPoolExecutor(max_workers=self.workers or os.cpu_count(), initializer=one_thread)
 
     def close(self) -> None:
         if self.client is not None:
