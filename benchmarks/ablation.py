@@ -2,12 +2,22 @@
 
 Every variant (`villa:NAME`, agent.teamconfig.VARIANTS) plays a batch against the
 base team `villa` through `server.batch` (game i from seed S0 + i, sides
-alternating); its mean goal difference (variant - base) and standard error are
-printed beside the paper's (100 ten-minute 11 vs 11 games), as one JSON line per
-variant and then a Markdown table, with the machine it ran on.
+alternating; the same seeds for every variant); its mean goal difference
+(variant - base) and standard error are printed beside the paper's (100
+ten-minute 11 vs 11 games), as one JSON line per variant and then a Markdown
+table, with the machine it ran on and the rank correlation of our means with
+the paper's.
 
-    python -m benchmarks.ablation [--games N] [--half-time S] [--workers W]
-                                  [--variants a,b] [--size N] [--seed S0] [--out DIR]
+Games are played in rounds of `--round` games per variant (default 2, one from
+each side), every variant in turn, so a run stopped at any time leaves a table in
+which each variant has played as many games as the others (give or take one
+round). With `--out DIR` each round's table is written to DIR/table.md and
+DIR/ablation.jsonl, and `--resume` continues a stopped run (the games already
+in DIR/VARIANT/games.jsonl are not played again); one pool of worker processes
+serves the whole run.
+
+    python -m benchmarks.ablation [--games N] [--round K] [--half-time S] [--workers W]
+                                  [--variants a,b] [--size N] [--seed S0] [--out DIR] [--resume]
 
 The full comparison is 100 games of 2 x 300 s, 11 vs 11 per variant: days of CPU on
 two cores. Small settings (fewer players, short halves) measure something else.
@@ -16,17 +26,21 @@ two cores. Small settings (fewer players, short halves) measure something else.
 from __future__ import annotations
 
 import argparse
+import concurrent.futures as cf
 import json
+import math
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from agent.teamconfig import PAPER_TABLE2, VARIANTS, UnknownVariant, variant_name
 from benchmarks.machine import machine
 from cli import teams
 from optimization.executor import ExecutorFactory
-from server.batch import BatchSettings, run_batch
+from server.batch import BatchError, BatchSettings, run_batch
+from server.files import write_text
 
 
 def _fmt(mean, se) -> str:
@@ -37,46 +51,140 @@ def _fmt(mean, se) -> str:
 
 def table(rows: list[dict]) -> str:
     """The Markdown table of the results beside the paper's."""
-    lines = ["| variant | games | goal difference vs villa (se) | paper (se) |", "|---|---:|---:|---:|"]
+    lines = ["| variant | games | goal difference vs villa (se) | W-D-L | paper (se) |",
+             "|---|---:|---:|:---:|---:|"]
     for r in rows:
         paper = PAPER_TABLE2.get(r["variant"])
         lines.append(f"| {r['variant']} | {r['n']} | {_fmt(r['mean'], r['se'])} | "
-                     f"{_fmt(*paper) if paper else '-'} |")
+                     f"{r['wins']}-{r['draws']}-{r['losses']} | {_fmt(*paper) if paper else '-'} |")
     return "\n".join(lines)
 
 
+def rank_agreement(rows: list[dict]) -> dict | None:
+    """Spearman's rank correlation of our means with the paper's, over the variants in
+    both with a mean (None for fewer than three); +1 is the paper's order."""
+    pairs = [(r["mean"], PAPER_TABLE2[r["variant"]][0]) for r in rows
+             if r["variant"] in PAPER_TABLE2 and r["mean"] is not None]
+    if len(pairs) < 3:
+        return None
+    from scipy.stats import spearmanr
+
+    res = spearmanr([a for a, _ in pairs], [b for _, b in pairs])
+    rho, p = float(res.statistic), float(res.pvalue)
+    return {"variants": len(pairs), "spearman_rho": None if math.isnan(rho) else round(rho, 3),
+            "p": None if math.isnan(p) else round(p, 4)}
+
+
+class SharedPool:
+    """One executor for every batch of a run, so worker processes start (and load the
+    model and the compiled kernels) once; remade when a worker died and broke it.
+
+    Called, it lends the executor to `server.batch.run_batch`, whose shutdown at the
+    end of each batch then only gives it back (a cancelling shutdown, after an
+    interrupt, closes it)."""
+
+    def __init__(self, factory: Callable[[], cf.Executor]) -> None:
+        self.factory = factory
+        self.executor: cf.Executor | None = None
+
+    def __call__(self) -> cf.Executor:
+        if self.executor is None or getattr(self.executor, "_broken", False):
+            if self.executor is not None:
+                self.executor.shutdown(wait=False)
+            self.executor = self.factory()
+        return _Lease(self)
+
+    def close(self) -> None:
+        if self.executor is not None:
+            self.executor.shutdown(wait=True)
+            self.executor = None
+
+
+class _Lease(cf.Executor):
+    def __init__(self, pool: SharedPool) -> None:
+        self.pool = pool
+        self.executor = pool.executor
+
+    def submit(self, fn, /, *args, **kwargs):  # type: ignore[override]
+        return self.executor.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        if cancel_futures and self.pool.executor is self.executor:
+            try:
+                self.executor.shutdown(wait=wait, cancel_futures=True)
+            except TypeError:  # Dask's executor has no cancel_futures
+                self.executor.shutdown(wait=wait)
+            self.pool.executor = None
+
+
+def variant_row(name: str, summary: dict, half_time: float, size: int, wall: float) -> dict:
+    """One variant's line of the table (a JSON row) from its batch summary."""
+    gd = summary["goal_difference"]
+    paper = PAPER_TABLE2.get(name)
+    return {"variant": name, "n": gd["n"], "mean": gd["mean"], "se": gd["se"], "sd": gd["sd"],
+            "wins": summary["wins"], "draws": summary["draws"], "losses": summary["losses"],
+            "goals_for": summary["goals_for"], "goals_against": summary["goals_against"],
+            "errors": summary["errors"], "falls": summary["falls"],
+            "paper_mean": paper[0] if paper else None, "paper_se": paper[1] if paper else None,
+            "half_time": half_time, "size": size, "wall": round(wall, 1)}
+
+
 def run(names: list[str], games: int, half_time: float, size: int, seed: int, workers: int | None,
-        out: Path) -> list[dict]:
-    rows = []
-    factory = ExecutorFactory(workers=workers)
+        out: Path, per_round: int = 2, resume: bool = False, progress=sys.stderr,
+        factory: Callable[[], cf.Executor] | None = None) -> list[dict]:
+    """Play the variants in rounds of `per_round` games each up to `games`, writing the
+    table after each round to OUT/table.md and OUT/ablation.jsonl; the rows of the last."""
+    executors = ExecutorFactory(workers=workers)
+    pool = SharedPool(factory or executors)
+    rows: dict[str, dict] = {}
+    walls = dict.fromkeys(names, 0.0)
     try:
-        for name in names:
-            settings = BatchSettings(f"villa:{name}", "villa", half_time, seed, size, size)
-            start = time.perf_counter()
-            s = run_batch(settings, games, out / name, teams.factory, factory, progress=None)
-            gd = s["goal_difference"]
-            paper = PAPER_TABLE2.get(name)
-            row = {"variant": name, "n": gd["n"], "mean": gd["mean"], "se": gd["se"], "sd": gd["sd"],
-                   "wins": s["wins"], "draws": s["draws"], "losses": s["losses"], "errors": s["errors"],
-                   "paper_mean": paper[0] if paper else None, "paper_se": paper[1] if paper else None,
-                   "half_time": half_time, "size": size, "wall": round(time.perf_counter() - start, 1)}
-            print(json.dumps(row), flush=True)
-            rows.append(row)
+        played = 0
+        while played < games:
+            played = min(games, played + per_round)
+            for name in names:
+                settings = BatchSettings(f"villa:{name}", "villa", half_time, seed, size, size)
+                start = time.perf_counter()
+                s = run_batch(settings, played, out / name, teams.factory, pool,
+                              resume=resume or played > per_round, progress=None)
+                walls[name] += time.perf_counter() - start
+                rows[name] = variant_row(name, s, half_time, size, walls[name])
+            ordered = [rows[n] for n in names]
+            write_text(out / "ablation.jsonl", "".join(json.dumps(r) + "\n" for r in ordered))
+            write_text(out / "table.md", header(games=played, half_time=half_time, size=size, seed=seed)
+                       + "\n\n" + table(ordered) + "\n")
+            if progress is not None:
+                print(f"round: {played} of {games} games per variant", file=progress, flush=True)
+                print(table(ordered), file=progress, flush=True)
     finally:
-        factory.close()
-    return rows
+        pool.close()
+        executors.close()
+    return [rows[n] for n in names]
+
+
+def header(games: int, half_time: float, size: int, seed: int) -> str:
+    return (f"{games} games per variant of 2 x {half_time:g} s, {size} vs {size}, from seed {seed}; "
+            f"paper: 100 games of 2 x 300 s, 11 vs 11")
 
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m benchmarks.ablation", description=__doc__.split("\n\n")[0])
     p.add_argument("--games", type=int, default=100, help="games per variant (default 100)")
+    p.add_argument("--round", type=int, default=2, dest="per_round",
+                   help="games per variant in each round (default 2: one from each side)")
     p.add_argument("--half-time", type=float, default=300.0, help="s per half (default 300)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default one per core)")
     p.add_argument("--variants", default=",".join(VARIANTS), help="comma-separated (default all)")
     p.add_argument("--size", type=int, default=11, help="players a side (default 11)")
     p.add_argument("--seed", type=int, default=0, help="seed of game 0 (default 0)")
-    p.add_argument("--out", type=Path, default=None, help="keep the batches here (default a temp dir)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="keep the batches and tables here (default a temp dir)")
+    p.add_argument("--resume", action="store_true", help="continue the run in --out")
     args = p.parse_args(argv)
+    if args.games < 1 or args.per_round < 1:
+        p.error(f"--games and --round must be at least 1 (got {args.games} and {args.per_round})")
+    if args.resume and args.out is None:
+        p.error("--resume needs the --out of the run to continue")
     try:
         names = [variant_name(v) for v in args.variants.split(",") if v.strip()]
     except UnknownVariant as exc:
@@ -85,11 +193,22 @@ def main(argv: list[str] | None = None) -> int:
     print(json.dumps({"machine": machine()}), flush=True)
     with tempfile.TemporaryDirectory(prefix="ablation-") as tmp:
         out = args.out or Path(tmp)
-        rows = run(names, args.games, args.half_time, args.size, args.seed, args.workers, out)
+        try:
+            rows = run(names, args.games, args.half_time, args.size, args.seed, args.workers, out,
+                       args.per_round, args.resume)
+        except BatchError as exc:
+            print(f"benchmarks.ablation: error: {exc}", file=sys.stderr)
+            return 2
+    for r in rows:
+        print(json.dumps(r))
+    agree = rank_agreement(rows)
+    print(json.dumps({"rank_agreement_with_paper": agree}))
     print()
-    print(f"{args.games} games per variant of 2 x {args.half_time:g} s, {args.size} vs {args.size}, "
-          f"from seed {args.seed}; paper: 100 games of 2 x 300 s, 11 vs 11")
+    print(header(args.games, args.half_time, args.size, args.seed))
     print(table(rows))
+    if agree is not None:
+        print(f"\nSpearman rank correlation with the paper's column over {agree['variants']} variants: "
+              f"rho {agree['spearman_rho']}, p {agree['p']}")
     return 0
 
 
