@@ -9,6 +9,7 @@ from pathlib import Path
 
 from cli import teams
 from cli.args import OutputError, check_writable, checked, half_time, robot_type, seed
+from optimization.executor import one_thread
 
 EXIT_USAGE = 2
 
@@ -152,6 +153,7 @@ def cmd_scene(args: argparse.Namespace) -> int:
 def main(argv: list[str] | None = None) -> int:
     COMMANDS.update(match=cmd_match, model=cmd_model, scene=cmd_scene)
     args = build_parser().parse_args(argv)
+    one_thread()  # a match or a worker per core: BLAS thread pools would only spin against them
     try:
         return COMMANDS[args.command](args)
     except (UsageError, teams.UnknownTeam, OutputError, ValueError) as exc:
