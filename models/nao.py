@@ -14,6 +14,7 @@ writes them) and are converted to radians when a `JointSpec` is made.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -182,6 +183,11 @@ _ORDER = ["hj1", "hj2"] + [f"{s}aj{i}" for s in "lr" for i in range(1, 5)] + [
 
 def joints(t: int) -> list[JointSpec]:
     """The hinge joints of robot type `t` in the league's order (22, or 24 for type 4)."""
+    return list(_joints(t))
+
+
+@functools.cache
+def _joints(t: int) -> tuple[JointSpec, ...]:
     rt = robot_type(t)
     by_name = {ln.joint: ln for ln in links(t) if ln.joint}
     names = list(_ORDER) + (["llj7", "rlj7"] if rt.toe else [])
@@ -204,7 +210,7 @@ def joints(t: int) -> list[JointSpec]:
             upper=math.radians(ln.range_deg[1]),
             max_speed=speed,
         ))
-    return specs
+    return tuple(specs)
 
 
 def joint_names(t: int) -> list[str]:

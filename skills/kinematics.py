@@ -46,7 +46,13 @@ def _pinocchio_mjcf(robot_type: int) -> str:
 
 
 def build_model(robot_type: int) -> pin.Model:
-    """Pinocchio model of robot type `robot_type` (free-flyer root at the torso)."""
+    """Pinocchio model of robot type `robot_type` (free-flyer root at the torso): a copy of
+    the one parsed per type."""
+    return pin.Model(_parsed_model(robot_type))
+
+
+@functools.cache
+def _parsed_model(robot_type: int) -> pin.Model:
     fd, path = tempfile.mkstemp(suffix=".xml", prefix=f"nao{robot_type}_")
     try:
         with os.fdopen(fd, "w") as f:

@@ -50,7 +50,7 @@ from models.rules import CYCLE
 from skills.ik import LegIK
 from skills.imu import TiltEstimator
 from skills.kicks.spec import KickSpec
-from skills.kinematics import LEG_JOINTS, RobotKinematics
+from skills.kinematics import LEG_JOINTS, RobotKinematics, leg_geometry
 from skills.params import PathLike, load_param_sets, with_type_file
 from skills.walk import WalkEngine
 
@@ -61,6 +61,8 @@ KINDS: dict[str, str] = {  # kind -> parameter prefix
     "forward": "forward_", "45_in": "45_in_", "45_out": "45_out_", "90_in": "90_in_", "90_out": "90_out_",
 }
 CHECK_SAMPLES = 60  # samples of the swing checked for reachability at reset
+CHECKS_KEPT = 1024  # reachability checks remembered (`IkKick._checked`)
+_CHECKS: dict[tuple, tuple[Unreachable, ...]] = {}
 
 # Units as the file writes them (converted to SI once at load).
 SCHEMA: dict[str, str] = {
@@ -214,7 +216,7 @@ class IkKick:
         self._done = False
         self.tilt = TiltEstimator(from_first=True)  # as the kick was tuned
         self._build(self.ball)
-        self.unreachable = self.check(self.ball)
+        self.unreachable = self._checked()
         if self.unreachable and self.strict:
             u = self.unreachable[0]
             raise UnreachableKick(
@@ -248,6 +250,20 @@ class IkKick:
     def _torso(self, shift: float) -> np.ndarray:
         """Torso position (m, ground frame) at shift fraction `shift` in [0, 1]."""
         return np.array([0.0, 0.0, self.height]) + shift * np.array(self.params.shift)
+
+    def _checked(self) -> list[Unreachable]:
+        """`check` at the current ball, remembered for the same kick, stance and ball (every
+        player of a type builds the same kicks at the spec's ball)."""
+        if self.ik.geom is not leg_geometry(self.robot_type):  # a geometry of the caller's own
+            return self.check(self.ball)
+        key = (self.robot_type, self.kick_side, self.params, tuple(self.ball.tolist()), self.height,
+               tuple(self.spot["l"].tolist()), tuple(self.spot["r"].tolist()))
+        bad = _CHECKS.get(key)
+        if bad is None:
+            bad = tuple(self.check(self.ball))
+            if len(_CHECKS) < CHECKS_KEPT:
+                _CHECKS[key] = bad
+        return list(bad)
 
     def check(self, ball: tuple[float, float] | np.ndarray | None = None) -> list[Unreachable]:
         """Samples of the swing (with the ball at `ball`, robot frame) the kicking leg
