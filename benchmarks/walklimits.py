@@ -1,0 +1,160 @@
+"""Where a walk's speed is bounded: steps, joint speed caps, motor torque, foot contact.
+
+For each robot type and walk set, the robot walks straight ahead at full forward
+input for `--seconds` s from the stand (as `benchmarks.walk` measures speeds), its
+control reading only its percepts, and the benchmark reads ground truth:
+
+* speed (m/s), steps per second and step length (m) against the speed the walk
+  planned (its own odometry: where it put the feet) and the set's bound,
+  `max_step_size_x / phase_length` (a full step every phase; a step lasts a whole
+  number of 20 ms cycles, so 0.19 s steps come 5 a second);
+* the walk's mean step factor: the share of the asked step it takes while the
+  CoM the joints measure strays from the one its targets expect
+  (`max_normal_com_error` .. `max_acceptable_com_error`; 1 is the whole step);
+* per leg joint (left and right pooled, `lj1` hip yaw-pitch ... `lj6` ankle roll):
+  the share of cycles whose command is at the joint's speed cap (6.14 rad/s;
+  the server clamps anything above), the share of cycles ending with the motor
+  at its torque limit (10 N m; sampled at the end of each 20 ms cycle), the mean
+  lag |joint velocity - command| (rad/s) and the peak joint speed;
+* the feet: the share of cycles with both feet loaded (double support) and
+  with neither (flight), from the percept's foot forces (type 4: sole and toe);
+* the stand's torso height (m), which the kicks are tuned from.
+
+A joint whose command sits at its cap, or a motor at its limit, most of a step
+cannot swing faster: longer or quicker steps must come from elsewhere (a lower
+lift, a flatter knee, the stand height). One JSON line per type and set, then a
+table.
+
+    python -m benchmarks.walklimits [--types 0,1,2,3,4] [--sets go_to_target,sprint]
+                                    [--seconds 10] [--params FILE ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+import numpy as np
+
+from benchmarks.machine import machine
+from models import nao
+from models.messages import Action
+from optimization.robot import new_robot
+
+LOADED = 10.0  # N under a sole before it counts as bearing weight
+LEG = tuple(f"lj{i}" for i in range(1, 7))
+STAND = 0.5  # s standing before the walk starts
+
+
+def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0,
+                params: list[str] | None = None) -> dict:
+    """One straight walk at full forward input; the figures of the module docstring."""
+    tr, mo = new_robot(robot_type, walk_params=params or [])
+    world = tr.world
+    d, p = world.data, world.players[0]
+    names = nao.joint_names(robot_type)
+    legs = np.array([i for i, n in enumerate(names) if n[1:] in LEG])
+    cap = np.array([j.max_speed for j in nao.joints(robot_type)])[legs]
+    act, dof = p.actuators[legs], p.joint_qvel[legs]
+    for _ in range(round(STAND / 0.02)):
+        tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0, set_name))})
+    height = float(d.xpos[p.torso][2])
+    x0 = world.player_pose(0)[0]
+    n = round(seconds / 0.02)
+    at_cap = np.zeros(len(legs))
+    at_limit = np.zeros(len(legs))
+    lag = np.zeros(len(legs))
+    peak = np.zeros(len(legs))
+    steps = double = flight = 0
+    factor = odometry = 0.0
+    swing = mo.walk.swing
+    fell = False
+    for k in range(n):
+        percept = tr.percepts()[0]
+        forces = np.asarray(percept.foot_forces, dtype=float)
+        feet = (forces[:2] + (forces[2:4] if len(forces) == 4 else 0.0)) > LOADED  # type 4: sole + toe
+        double += bool(feet.all())
+        flight += not feet.any()
+        v = mo.walk_step(percept, 1.0, 0.0, 0.0, set_name)
+        factor += mo.walk.step_factor
+        odometry += mo.last.odometry[0]
+        if mo.walk.swing != swing:  # the feet swapped: a new step
+            steps, swing = steps + 1, mo.walk.swing
+        cmd = np.clip(v[legs], -cap, cap)
+        at_cap += np.abs(cmd) >= cap - 1e-9
+        tr.step({0: Action(v)})
+        at_limit += np.abs(d.actuator_force[act]) >= nao.MAX_MOTOR_TORQUE - 1e-6
+        lag += np.abs(d.qvel[dof] - cmd)
+        peak = np.maximum(peak, np.abs(d.qvel[dof]))
+        if world.torso_up()[0] < 0.5:
+            fell, n = True, k + 1
+            break
+    dt = n * 0.02
+    distance = world.player_pose(0)[0] - x0
+    wp = mo.walk.sets[set_name]
+    joints = {}
+    for j in LEG:
+        both = [i for i, li in enumerate(legs) if names[li][1:] == j]
+        joints[j] = {"at_speed_cap": round(float(at_cap[both].mean()) / n, 3),
+                     "at_torque_limit": round(float(at_limit[both].mean()) / n, 3),
+                     "lag_rad_s": round(float(lag[both].mean()) / n, 3),
+                     "peak_rad_s": round(float(peak[both].max()), 2)}
+    return {"type": robot_type, "set": set_name, "seconds": round(dt, 2), "fell": fell,
+            "speed_m_s": round(distance / dt, 3),
+            "planned_m_s": round(odometry / dt, 3), "steps_per_s": round(steps / dt, 2),
+            "step_length_m": round(distance / steps, 4) if steps else None,
+            "bound_m_s": round(wp.max_step_size_x / wp.phase_length, 3),
+            "max_step_size_x_m": round(wp.max_step_size_x, 4), "phase_length_s": round(wp.phase_length, 4),
+            "step_factor": round(factor / n, 3),
+            "double_support": round(double / n, 3), "flight": round(flight / n, 3),
+            "stand_height_m": round(height, 4), "joints": joints}
+
+
+def table(rows: list[dict]) -> str:
+    """Rows as text: one block per type and set, one line per leg joint."""
+    out = []
+    for r in rows:
+        out.append(f"type {r['type']} {r['set']}: {r['speed_m_s']:.3f} m/s (planned {r['planned_m_s']:.3f}, "
+                   f"bound {r['bound_m_s']:.3f}), "
+                   f"{r['steps_per_s']:.2f} steps/s x {r['step_length_m'] or 0:.3f} m, step factor "
+                   f"{r['step_factor']:.2f}, double support "
+                   f"{100 * r['double_support']:.0f}%, flight {100 * r['flight']:.0f}%, stand "
+                   f"{r['stand_height_m']:.3f} m{', FELL' if r['fell'] else ''}")
+        out.append("  joint  at speed cap  at torque limit  lag rad/s  peak rad/s")
+        for j, s in r["joints"].items():
+            out.append(f"  {j}   {100 * s['at_speed_cap']:10.0f}%  {100 * s['at_torque_limit']:14.0f}%  "
+                       f"{s['lag_rad_s']:9.2f}  {s['peak_rad_s']:10.2f}")
+    return "\n".join(out)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.walklimits", description=__doc__.splitlines()[0])
+    ap.add_argument("--types", default="0,1,2,3,4", help="robot types, comma-separated (default all)")
+    ap.add_argument("--sets", default="go_to_target,sprint", help="walk sets, comma-separated")
+    ap.add_argument("--seconds", type=float, default=10.0, help="s of walking (default 10)")
+    ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
+                    help="walk parameter files loaded after the shipped ones")
+    args = ap.parse_args(argv)
+    try:
+        types = [int(t) for t in args.types.split(",") if t.strip()]
+    except ValueError:
+        ap.error(f"--types: whole numbers 0-4, comma-separated, got {args.types!r}")
+    if any(t not in range(5) for t in types):
+        ap.error(f"--types: robot types are 0-4, got {args.types!r}")
+    if args.seconds <= 0:
+        ap.error(f"--seconds must be positive, got {args.seconds}")
+    sets = [s.strip() for s in args.sets.split(",") if s.strip()]
+    print(json.dumps({"machine": machine()}), flush=True)
+    rows = []
+    for t in types:
+        for s in sets:
+            rows.append(walk_limits(t, s, args.seconds, args.params))
+            print(json.dumps(rows[-1]), flush=True)
+    print()
+    print(table(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,31 @@
+"""benchmarks.walklimits: steps, speeds and joint limits of a straight walk, measured."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from benchmarks import walklimits
+
+
+def test_a_straight_walk_is_measured_against_its_plan_and_its_joints():
+    r = walklimits.walk_limits(0, "go_to_target", seconds=3.0)
+    assert not r["fell"]
+    # a step lasts a whole number of 20 ms cycles
+    cycles = math.ceil(r["phase_length_s"] / 0.02 - 1e-9)
+    assert r["steps_per_s"] == pytest.approx(1.0 / (0.02 * cycles), abs=0.4)
+    assert r["step_length_m"] == pytest.approx(r["speed_m_s"] / r["steps_per_s"], rel=0.15)
+    assert 0.15 < r["speed_m_s"] < 0.6 and 0.1 < r["planned_m_s"] <= r["bound_m_s"] + 1e-9
+    j = r["joints"]
+    assert set(j) == set(walklimits.LEG)
+    # the swing's knee is driven hard; the hip roll never reaches its cap walking straight
+    assert j["lj4"]["at_speed_cap"] > 0.05 and j["lj4"]["peak_rad_s"] > 3.0
+    assert j["lj2"]["at_speed_cap"] == 0.0
+    assert 0.0 <= r["double_support"] + r["flight"] <= 1.0
+
+
+def test_cli_rejects_bad_types(capsys):
+    with pytest.raises(SystemExit):
+        walklimits.main(["--types", "7"])
+    assert "robot types are 0-4" in capsys.readouterr().err
