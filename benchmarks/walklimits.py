@@ -17,7 +17,9 @@ control reading only its percepts, and the benchmark reads ground truth:
   at its torque limit (10 N m; sampled at the end of each 20 ms cycle), the mean
   lag |joint velocity - command| (rad/s) and the peak joint speed;
 * the feet: the share of cycles with both feet loaded (double support) and
-  with neither (flight), from the percept's foot forces (type 4: sole and toe);
+  with neither (flight), from the percept's foot forces (type 4: sole and toe),
+  and how far the one loaded foot slides on the ground per step (m; a foot
+  that pushes off while sliding carries the body less far than its step);
 * the stand's torso height (m), which the kicks are tuned from.
 
 A joint whose command sits at its cap, or a motor at its limit, most of a step
@@ -39,7 +41,7 @@ import numpy as np
 
 from benchmarks.machine import machine
 from models import nao
-from models.messages import Action
+from models.messages import SEEN_PARTS, Action
 from optimization.robot import new_robot
 
 LOADED = 10.0  # N under a sole before it counts as bearing weight
@@ -67,7 +69,10 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
     lag = np.zeros(len(legs))
     peak = np.zeros(len(legs))
     steps = double = flight = 0
-    factor = odometry = 0.0
+    factor = odometry = slip = 0.0
+    foot_ids = p.parts[[SEEN_PARTS.index("lfoot"), SEEN_PARTS.index("rfoot")]]
+    feet_before = d.xpos[foot_ids, :2].copy()
+    alone_before = np.zeros(2, dtype=bool)
     swing = mo.walk.swing
     fell = False
     for k in range(n):
@@ -87,6 +92,11 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
         at_limit += np.abs(d.actuator_force[act]) >= nao.MAX_MOTOR_TORQUE - 1e-6
         lag += np.abs(d.qvel[dof] - cmd)
         peak = np.maximum(peak, np.abs(d.qvel[dof]))
+        feet_now = d.xpos[foot_ids, :2].copy()
+        alone = feet & ~feet[::-1]  # the one foot bearing the weight
+        for i in np.flatnonzero(alone & alone_before):
+            slip += float(np.hypot(*(feet_now[i] - feet_before[i])))
+        feet_before, alone_before = feet_now, alone
         if world.torso_up()[0] < 0.5:
             fell, n = True, k + 1
             break
@@ -107,6 +117,7 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
             "bound_m_s": round(wp.max_step_size_x / wp.phase_length, 3),
             "max_step_size_x_m": round(wp.max_step_size_x, 4), "phase_length_s": round(wp.phase_length, 4),
             "step_factor": round(factor / n, 3),
+            "stance_slip_m_per_step": round(slip / steps, 4) if steps else None,
             "double_support": round(double / n, 3), "flight": round(flight / n, 3),
             "stand_height_m": round(height, 4), "joints": joints}
 
@@ -118,7 +129,8 @@ def table(rows: list[dict]) -> str:
         out.append(f"type {r['type']} {r['set']}: {r['speed_m_s']:.3f} m/s (planned {r['planned_m_s']:.3f}, "
                    f"bound {r['bound_m_s']:.3f}), "
                    f"{r['steps_per_s']:.2f} steps/s x {r['step_length_m'] or 0:.3f} m, step factor "
-                   f"{r['step_factor']:.2f}, double support "
+                   f"{r['step_factor']:.2f}, stance slip {1000 * (r['stance_slip_m_per_step'] or 0):.1f} "
+                   f"mm/step, double support "
                    f"{100 * r['double_support']:.0f}%, flight {100 * r['flight']:.0f}%, stand "
                    f"{r['stand_height_m']:.3f} m{', FELL' if r['fell'] else ''}")
         out.append("  joint  at speed cap  at torque limit  lag rad/s  peak rad/s")

@@ -23,6 +23,7 @@ def test_a_straight_walk_is_measured_against_its_plan_and_its_joints():
     assert j["lj4"]["at_speed_cap"] > 0.05 and j["lj4"]["peak_rad_s"] > 3.0
     assert j["lj2"]["at_speed_cap"] == 0.0
     assert 0.0 <= r["double_support"] + r["flight"] <= 1.0
+    assert 0.0 < r["stance_slip_m_per_step"] < 0.5 * r["step_length_m"]
 
 
 def test_cli_rejects_bad_types(capsys):
