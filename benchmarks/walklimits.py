@@ -27,8 +27,24 @@ cannot swing faster: longer or quicker steps must come from elsewhere (a lower
 lift, a flatter knee, the stand height). One JSON line per type and set, then a
 table.
 
+`--cap-scale` and `--torque-scale` raise the joints' speed cap and the motors'
+torque limit for diagnosis (not the league's robot): whichever lets the walk go
+faster is the bound that holds it back.
+
+What it showed (type 0, December 2026): both shipped sets walk at their bound
+(go-to-target 0.335 m/s, 5 steps/s x 64 mm; sprint 0.392, 6.2 x 63 mm), knee
+and ankle pitch commanded at the speed cap 33-41% of cycles. Asked for longer
+sprint steps (80, 100, 120 mm), a lower lift (20-35 mm) or another stand height
+(175-200 mm), the walk planned up to 0.46 m/s but walked 0.34-0.42 with steps
+no longer than 56-67 mm (or fell): slipping stayed 3-9 mm a step. With the
+speed cap 1.5x the 80 mm sprint walked 0.467 m/s (75 mm steps); with twice the
+torque 0.328. The 6.14 rad/s cap binds: a faster walk has to spend the joints'
+speed better (the whole set learned together, as UT Austin Villa did), not ask
+for longer steps.
+
     python -m benchmarks.walklimits [--types 0,1,2,3,4] [--sets go_to_target,sprint]
                                     [--seconds 10] [--params FILE ...]
+                                    [--cap-scale K] [--torque-scale K]
 """
 
 from __future__ import annotations
@@ -50,14 +66,20 @@ STAND = 0.5  # s standing before the walk starts
 
 
 def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0,
-                params: list[str] | None = None) -> dict:
-    """One straight walk at full forward input; the figures of the module docstring."""
+                params: list[str] | None = None, cap_scale: float = 1.0, torque_scale: float = 1.0) -> dict:
+    """One straight walk at full forward input; the figures of the module docstring.
+    cap_scale, torque_scale: the joints' speed cap and the motors' torque limit scaled,
+    for diagnosis (`server.trainer.Trainer.scale_motors`; not the league's robot)."""
     tr, mo = new_robot(robot_type, walk_params=params or [])
+    if cap_scale != 1.0 or torque_scale != 1.0:
+        tr.scale_motors(cap_scale, torque_scale)
+        mo.max_speed = mo.max_speed * cap_scale  # the joint controller's own clamp
+        mo.pid.max_speed = mo.pid.max_speed * cap_scale
     world = tr.world
     d, p = world.data, world.players[0]
     names = nao.joint_names(robot_type)
     legs = np.array([i for i, n in enumerate(names) if n[1:] in LEG])
-    cap = np.array([j.max_speed for j in nao.joints(robot_type)])[legs]
+    cap = cap_scale * np.array([j.max_speed for j in nao.joints(robot_type)])[legs]
     act, dof = p.actuators[legs], p.joint_qvel[legs]
     for _ in range(round(STAND / 0.02)):
         tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0, set_name))})
@@ -119,14 +141,18 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
             "step_factor": round(factor / n, 3),
             "stance_slip_m_per_step": round(slip / steps, 4) if steps else None,
             "double_support": round(double / n, 3), "flight": round(flight / n, 3),
-            "stand_height_m": round(height, 4), "joints": joints}
+            "stand_height_m": round(height, 4), "cap_scale": cap_scale, "torque_scale": torque_scale,
+            "joints": joints}
 
 
 def table(rows: list[dict]) -> str:
     """Rows as text: one block per type and set, one line per leg joint."""
     out = []
     for r in rows:
-        out.append(f"type {r['type']} {r['set']}: {r['speed_m_s']:.3f} m/s (planned {r['planned_m_s']:.3f}, "
+        scaled = (f" [cap x{r['cap_scale']:g}, torque x{r['torque_scale']:g}]"
+                  if (r["cap_scale"], r["torque_scale"]) != (1.0, 1.0) else "")
+        out.append(f"type {r['type']} {r['set']}{scaled}: {r['speed_m_s']:.3f} m/s "
+                   f"(planned {r['planned_m_s']:.3f}, "
                    f"bound {r['bound_m_s']:.3f}), "
                    f"{r['steps_per_s']:.2f} steps/s x {r['step_length_m'] or 0:.3f} m, step factor "
                    f"{r['step_factor']:.2f}, stance slip {1000 * (r['stance_slip_m_per_step'] or 0):.1f} "
@@ -147,7 +173,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, default=10.0, help="s of walking (default 10)")
     ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
                     help="walk parameter files loaded after the shipped ones")
+    ap.add_argument("--cap-scale", type=float, default=1.0, metavar="K",
+                    help="diagnosis: the joints' speed cap times K (not the league's robot)")
+    ap.add_argument("--torque-scale", type=float, default=1.0, metavar="K",
+                    help="diagnosis: the motors' torque limit times K (not the league's robot)")
     args = ap.parse_args(argv)
+    if args.cap_scale <= 0 or args.torque_scale <= 0:
+        ap.error(f"--cap-scale and --torque-scale must be positive, got {args.cap_scale} "
+                 f"and {args.torque_scale}")
     try:
         types = [int(t) for t in args.types.split(",") if t.strip()]
     except ValueError:
@@ -161,7 +194,7 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     for t in types:
         for s in sets:
-            rows.append(walk_limits(t, s, args.seconds, args.params))
+            rows.append(walk_limits(t, s, args.seconds, args.params, args.cap_scale, args.torque_scale))
             print(json.dumps(rows[-1]), flush=True)
     print()
     print(table(rows))

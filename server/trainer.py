@@ -32,6 +32,16 @@ class Trainer:
         self._max = [m.model.actuator_ctrlrange[p.actuators, 1] for p in m.players]
         self.ctrl = np.zeros(m.model.nu)
 
+    def scale_motors(self, speed: float = 1.0, torque: float = 1.0) -> None:
+        """Diagnosis only, not the league's robot: every joint's speed cap and every motor's
+        torque limit times `speed` and `torque` (which bound holds a skill back?)."""
+        if speed <= 0.0 or torque <= 0.0:
+            raise ValueError(f"motor scales must be positive, got speed {speed} and torque {torque}")
+        m = self.world.model
+        m.actuator_ctrlrange[:] *= speed
+        m.actuator_forcerange[:] *= torque
+        self._max = [m.actuator_ctrlrange[p.actuators, 1] for p in self.world.players]
+
     def set_play_mode(self, mode: PlayMode | str) -> None:
         self.play_mode = PlayMode(mode)
         assert self.play_mode in PLAY_MODES

@@ -30,3 +30,16 @@ def test_cli_rejects_bad_types(capsys):
     with pytest.raises(SystemExit):
         walklimits.main(["--types", "7"])
     assert "robot types are 0-4" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        walklimits.main(["--cap-scale", "0"])
+    assert "must be positive" in capsys.readouterr().err
+
+
+def test_a_higher_speed_cap_is_measured_against_the_raised_cap():
+    base = walklimits.walk_limits(0, "sprint", seconds=2.0)
+    fast = walklimits.walk_limits(0, "sprint", seconds=2.0, cap_scale=1.5)
+    assert fast["cap_scale"] == 1.5
+    # the knee reaches speeds the league's cap forbids, and sits at the raised cap less
+    assert fast["joints"]["lj4"]["peak_rad_s"] > 1.05 * base["joints"]["lj4"]["peak_rad_s"]
+    assert base["joints"]["lj4"]["peak_rad_s"] < 6.14 * 1.15
+    assert fast["joints"]["lj4"]["at_speed_cap"] < base["joints"]["lj4"]["at_speed_cap"]
