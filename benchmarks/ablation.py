@@ -11,13 +11,15 @@ the paper's.
 Games are played in rounds of `--round` games per variant (default 2, one from
 each side), every variant in turn, so a run stopped at any time leaves a table in
 which each variant has played as many games as the others (give or take one
-round). With `--out DIR` each round's table is written to DIR/table.md and
-DIR/ablation.jsonl, and `--resume` continues a stopped run (the games already
-in DIR/VARIANT/games.jsonl are not played again); one pool of worker processes
+round). With `--out DIR` each round's table is written to DIR/table.md,
+DIR/ablation.jsonl and DIR/ablation.png (our means with 95% intervals beside
+the paper's), and `--resume` continues a stopped run (the games already in
+DIR/VARIANT/games.jsonl are not played again); one pool of worker processes
 serves the whole run.
 
     python -m benchmarks.ablation [--games N] [--round K] [--half-time S] [--workers W]
                                   [--variants a,b] [--size N] [--seed S0] [--out DIR] [--resume]
+    python -m benchmarks.ablation --out DIR --report [--variants a,b]
 
 The full comparison is 100 games of 2 x 300 s, 11 vs 11 per variant: days of CPU on
 two cores. Small settings (fewer players, short halves) measure something else.
@@ -35,12 +37,14 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
+
 from agent.teamconfig import PAPER_TABLE2, VARIANTS, UnknownVariant, variant_name
 from benchmarks.machine import machine
 from cli import teams
 from optimization.executor import ExecutorFactory
-from server.batch import BatchError, BatchSettings, run_batch
-from server.files import write_text
+from server.batch import GAMES, SETTINGS, BatchError, BatchSettings, read_games, run_batch, summarize
+from server.files import write_bytes, write_text
 
 
 def _fmt(mean, se) -> str:
@@ -58,6 +62,40 @@ def table(rows: list[dict]) -> str:
         lines.append(f"| {r['variant']} | {r['n']} | {_fmt(r['mean'], r['se'])} | "
                      f"{r['wins']}-{r['draws']}-{r['losses']} | {_fmt(*paper) if paper else '-'} |")
     return "\n".join(lines)
+
+
+def write_plot(path: Path, rows: list[dict], title: str) -> None:
+    """Each variant's mean goal difference against villa with its 95% interval (1.96
+    standard errors) beside the paper's, as a PNG (matplotlib, Agg backend)."""
+    import io
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = [r["variant"] for r in rows]
+    y = np.arange(len(rows))
+    fig, ax = plt.subplots(figsize=(7.0, 0.45 * len(rows) + 1.8), dpi=100)
+    ours = [(r["mean"], 1.96 * (r["se"] or 0.0)) if r["mean"] is not None else (np.nan, 0.0) for r in rows]
+    paper = [(PAPER_TABLE2[n][0], 1.96 * PAPER_TABLE2[n][1]) if n in PAPER_TABLE2 else (np.nan, 0.0)
+             for n in names]
+    ax.errorbar([m for m, _ in ours], y - 0.15, xerr=[e for _, e in ours], fmt="o", capsize=3,
+                label="ours (95% interval)")
+    ax.errorbar([m for m, _ in paper], y + 0.15, xerr=[e for _, e in paper], fmt="s", capsize=3,
+                label="Positioning to Win, Table 2")
+    ax.axvline(0.0, color="0.5", lw=0.8)
+    ax.set_yticks(y, [f"{n} ({r['n']})" for n, r in zip(names, rows)])
+    ax.invert_yaxis()
+    ax.set_xlabel("goal difference, variant - villa")
+    ax.set_title(title, fontsize=9)
+    ax.grid(axis="x", alpha=0.3)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.09 - 0.6 / (len(rows) + 3)), ncol=2, fontsize=8)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png")
+    plt.close(fig)
+    write_bytes(path, buf.getvalue())
 
 
 def rank_agreement(rows: list[dict]) -> dict | None:
@@ -151,8 +189,9 @@ def run(names: list[str], games: int, half_time: float, size: int, seed: int, wo
                 rows[name] = variant_row(name, s, half_time, size, walls[name])
             ordered = [rows[n] for n in names]
             write_text(out / "ablation.jsonl", "".join(json.dumps(r) + "\n" for r in ordered))
-            write_text(out / "table.md", header(games=played, half_time=half_time, size=size, seed=seed)
-                       + "\n\n" + table(ordered) + "\n")
+            head = header(games=played, half_time=half_time, size=size, seed=seed)
+            write_text(out / "table.md", head + "\n\n" + table(ordered) + "\n")
+            write_plot(out / "ablation.png", ordered, head)
             if progress is not None:
                 print(f"round: {played} of {games} games per variant", file=progress, flush=True)
                 print(table(ordered), file=progress, flush=True)
@@ -160,6 +199,35 @@ def run(names: list[str], games: int, half_time: float, size: int, seed: int, wo
         pool.close()
         executors.close()
     return [rows[n] for n in names]
+
+
+def report(out: Path, names: list[str] | None = None) -> list[dict]:
+    """The rows of the games already in OUT (every game each variant has, so the
+    counts may differ by a round), without playing, each variant's settings read
+    from its batch.json; table.md, ablation.jsonl and ablation.png rewritten.
+    names: the variants (default: every one with games in OUT)."""
+    if names is None:
+        names = [n for n in VARIANTS if (out / n / GAMES).exists()]
+    if not names:
+        raise BatchError(f"{out} holds no variant's {GAMES}")
+    rows, settings = [], None
+    for name in names:
+        path = out / name / SETTINGS
+        try:
+            saved = json.loads(path.read_text())
+            settings = BatchSettings(*(saved[k] for k in ("home", "away", "half_time", "seed",
+                                                          "home_size", "away_size")))
+        except (OSError, ValueError, KeyError) as exc:
+            raise BatchError(f"{path}: cannot read the batch's settings ({exc})") from None
+        done, _ = read_games(out / name / GAMES)
+        rows.append(variant_row(name, summarize(settings, list(done.values())), settings.half_time,
+                                settings.home_size, 0.0))
+    n = min(r["n"] for r in rows)
+    head = header(n, settings.half_time, settings.home_size, settings.seed) + " (at least; see each count)"
+    write_text(out / "ablation.jsonl", "".join(json.dumps(r) + "\n" for r in rows))
+    write_text(out / "table.md", head + "\n\n" + table(rows) + "\n")
+    write_plot(out / "ablation.png", rows, head)
+    return rows
 
 
 def header(games: int, half_time: float, size: int, seed: int) -> str:
@@ -180,16 +248,26 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", type=Path, default=None,
                    help="keep the batches and tables here (default a temp dir)")
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
+    p.add_argument("--report", action="store_true",
+                   help="only tabulate the games already in --out (a stopped run's every game)")
     args = p.parse_args(argv)
     if args.games < 1 or args.per_round < 1:
         p.error(f"--games and --round must be at least 1 (got {args.games} and {args.per_round})")
-    if args.resume and args.out is None:
-        p.error("--resume needs the --out of the run to continue")
+    if (args.resume or args.report) and args.out is None:
+        p.error("--resume and --report need the --out of a run")
     try:
         names = [variant_name(v) for v in args.variants.split(",") if v.strip()]
     except UnknownVariant as exc:
         print(f"benchmarks.ablation: error: {exc}", file=sys.stderr)
         return 2
+    if args.report:
+        try:
+            rows = report(args.out, names if args.variants != ",".join(VARIANTS) else None)
+        except BatchError as exc:
+            print(f"benchmarks.ablation: error: {exc}", file=sys.stderr)
+            return 2
+        print(table(rows))
+        return 0
     print(json.dumps({"machine": machine()}), flush=True)
     with tempfile.TemporaryDirectory(prefix="ablation-") as tmp:
         out = args.out or Path(tmp)

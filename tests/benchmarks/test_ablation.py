@@ -36,6 +36,7 @@ def test_rounds_keep_variants_level_and_one_pool_serves_them(tmp_path):
         assert [g["seed"] for g in games] == [5, 6, 7]
     written = [json.loads(line) for line in (tmp_path / "ablation.jsonl").read_text().splitlines()]
     assert written == rows
+    assert (tmp_path / "ablation.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     md = (tmp_path / "table.md").read_text()
     assert "| Static | 3 |" in md and "| NoVoting | 3 |" in md and "-0.19 (0.07)" in md
 
@@ -68,4 +69,16 @@ def test_cli_errors(capsys):
     assert "unknown villa variant 'Nope'" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         ablation.main(["--resume"])
-    assert "--resume needs the --out" in capsys.readouterr().err
+    assert "--resume and --report need the --out" in capsys.readouterr().err
+
+
+def test_report_tabulates_every_game_in_a_stopped_run(tmp_path, capsys):
+    ablation.run(["Static"], 3, out=tmp_path, per_round=2, progress=None, **TINY)
+    ablation.run(["NoVoting"], 1, out=tmp_path, progress=None, **TINY)
+    assert ablation.main(["--out", str(tmp_path), "--report"]) == 0
+    assert "| Static | 3 |" in capsys.readouterr().out
+    rows = [json.loads(line) for line in (tmp_path / "ablation.jsonl").read_text().splitlines()]
+    # every variant with games, in the table's order, each with its own count
+    assert [(r["variant"], r["n"], r["half_time"], r["size"]) for r in rows] == [
+        ("Static", 3, 0.2, 1), ("NoVoting", 1, 0.2, 1)]
+    assert ablation.main(["--out", str(tmp_path / "none"), "--report"]) == 2
