@@ -50,6 +50,7 @@ VARIANTS: dict[str, TeamConfig] = {
     "NoVoting": TeamConfig(voting=False),  # communication on, each follows its own mapping
     "DribbleOnly": TeamConfig(kicks=False),
     "KickOnly": TeamConfig(dribble=False),
+    "WideBox": TeamConfig(kick_box=1.5),  # kicks start from a stance box 1.5x as wide: fewer aligns
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and
