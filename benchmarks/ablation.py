@@ -42,7 +42,7 @@ import numpy as np
 from agent.teamconfig import PAPER_TABLE2, VARIANTS, UnknownVariant, variant_name
 from benchmarks.machine import machine
 from cli import teams
-from optimization.executor import ExecutorFactory
+from optimization.executor import ExecutorFactory, shutdown
 from server.batch import GAMES, SETTINGS, BatchError, BatchSettings, read_games, run_batch, summarize
 from server.files import write_bytes, write_text
 
@@ -148,10 +148,7 @@ class _Lease(cf.Executor):
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
         if cancel_futures and self.pool.executor is self.executor:
-            try:
-                self.executor.shutdown(wait=wait, cancel_futures=True)
-            except TypeError:  # Dask's executor has no cancel_futures
-                self.executor.shutdown(wait=wait)
+            shutdown(self.executor, wait)
             self.pool.executor = None
 
 
@@ -205,9 +202,8 @@ def report(out: Path, names: list[str] | None = None) -> list[dict]:
     """The rows of the games already in OUT (every game each variant has, so the
     counts may differ by a round), without playing, each variant's settings read
     from its batch.json; table.md, ablation.jsonl and ablation.png rewritten.
-    names: the variants (default: every one with games in OUT)."""
-    if names is None:
-        names = [n for n in VARIANTS if (out / n / GAMES).exists()]
+    names: the variants to show (default all), those with games in OUT."""
+    names = [n for n in (VARIANTS if names is None else names) if (out / n / GAMES).exists()]
     if not names:
         raise BatchError(f"{out} holds no variant's {GAMES}")
     rows, settings = [], None

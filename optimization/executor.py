@@ -126,7 +126,7 @@ class ExecutorFactory:
             self.client = None
 
 
-def _shutdown(executor: cf.Executor, wait: bool) -> None:
+def shutdown(executor: cf.Executor, wait: bool) -> None:
     """Shut an executor down, dropping queued calls where it can (Dask's cannot)."""
     try:
         executor.shutdown(wait=wait, cancel_futures=True)
@@ -163,7 +163,7 @@ class Evaluator:
 
     def _rebuild(self) -> None:
         if self.executor is not None:
-            _shutdown(self.executor, wait=False)
+            shutdown(self.executor, wait=False)
         self.executor = None
 
     def evaluate_all(self, requests: Sequence[TrialRequest]) -> list[TrialOutcome]:
@@ -248,7 +248,7 @@ class Evaluator:
 
     def close(self) -> None:
         if self.executor is not None:
-            _shutdown(self.executor, wait=True)
+            shutdown(self.executor, wait=True)
             self.executor = None
         if isinstance(self.factory, ExecutorFactory):
             self.factory.close()
