@@ -1,0 +1,164 @@
+"""Dribbling: the team's walk through the ball, timed over 10 m (issue 47's dribble goal).
+
+Per robot type, `--tries` seeded trials, each a match in PlayOn of one villa
+player (`agent.player`, percepts only) and one posture robot standing in a
+corner: the ball lies at (-6, 0) plus a little noise, the target 10 m away in a
+direction within +-`--spread` deg of the field's +x, and the player starts
+`--start` m behind the ball, facing the target, and stands until its world
+model has the ball within 0.2 m (untimed: it still believes the kickoff's ball
+at the center). Its decision layer is replaced by
+one request, `Dribble(target)`, so the body's own dribble
+(`agent.body.Body._dribble`: line up behind the ball, walk through it, line up
+again when it gets away) is what is measured. Ground truth decides:
+
+* done: the ball's progress along the target line reached `--distance` m
+  (default 10) within `--limit` s;
+* speed (m/s): the distance over the time from the first touch to done;
+* held: the ball stayed within 1 m of the robot's torso at every cycle from the
+  first touch to done (issue 47: "keeps the ball within 1 m of the robot");
+* off line (m): the ball's largest distance from the target line; falls.
+
+A try that is done and held at at least 0.35 m/s meets issue 47's goal.
+
+What it showed (10 tries a type, seed 0, December 2026), types 0-4: the ball
+went the 10 m in 49 of 50 tries without a fall, at a median 0.31, 0.34, 0.29,
+0.31 and 0.31 m/s (0.23-0.44 over all tries), but no try held it: each push
+sends the ball a median 2.0-2.4 m ahead of the robot, which walks after it
+(the go-to-target set at full speed through the ball), and it strays a median
+0.7-1.5 m from the line. Goal met: 0 of 50.
+
+    python -m benchmarks.dribble [--types 0,1,2,3,4] [--tries 10] [--seed 0]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+import numpy as np
+
+from agent.player import Player
+from agent.posture import PostureAgent
+from agent.requests import Dribble, SkillRequest, Stand
+from agent.strategy import TeamView
+from benchmarks.machine import machine
+from benchmarks.stats import rate_ci
+from models.rules import PlayMode
+from models.scene import Lineup
+from server.match import Match
+
+GOAL_SPEED = 0.35  # m/s over the distance, issue 47
+HOLD = 1.0  # m: the ball within this of the torso
+FIND_LIMIT = 15.0  # s standing to find the placed ball before the clock starts
+
+
+class Dribbler(Player):
+    """The villa player with one request: dribble to `target` (team frame, m); stand
+    while it is None."""
+
+    target: tuple[float, float] | None = None
+
+    def decide(self, view: TeamView) -> SkillRequest:
+        return Stand() if self.target is None else Dribble(self.target)
+
+
+def trial(robot_type: int, rng: np.random.Generator, seed: int, distance: float = 10.0,
+          start: float = 0.5, spread: float = 30.0, limit: float = 60.0) -> dict:
+    """One try: done, speed (m/s), held, the ball's largest gap to the torso and to the
+    target line (m), falls, and the seconds to the first touch."""
+    m = Match(Dribbler, PostureAgent, Lineup((robot_type,), (0,)), half_time=10 * limit, seed=seed)
+    for _ in range(60):  # the beam and the first settling
+        m.step()
+    w = m.world
+    ball = np.array([-6.0, 0.0]) + rng.normal(0.0, 0.1, 2)
+    a = math.radians(rng.uniform(-spread, spread))
+    u = np.array([math.cos(a), math.sin(a)])
+    agent = m.agents[0]
+    x, y = (ball - start * u).tolist()
+    w.place_robot(0, x, y, a, joints=w.joint_angles(0))
+    w.settle_height(0)
+    agent.world.beamed(x, y, a)  # as after a beam: it knows where it stands
+    agent.body.beamed()
+    w.place_robot(1, 14.5, 9.0, math.pi)  # their goalie out of the way
+    w.place_ball(tuple(ball))
+    m.referee.set_play_mode(PlayMode.PLAY_ON)
+    # Untimed: standing, the player forgets the kickoff's ball and finds this one.
+    end = w.time + FIND_LIMIT
+    while w.time < end and not (agent.world.ball_filter.initialized
+                                and float(np.hypot(*(agent.world.ball_filter.position - ball))) < 0.2):
+        m.step()
+    agent.target = tuple((ball + distance * u).tolist())
+    t0, touch, done = w.time, None, None
+    gap = off = 0.0
+    while w.time - t0 < limit:
+        m.step()
+        b = w.ball_position()[:2]
+        rel = b - ball
+        if touch is None and float(np.hypot(*rel)) > 0.05:
+            touch = w.time - t0
+        if touch is not None:
+            gap = max(gap, float(np.hypot(*(b - w.player_pose(0)[:2]))))
+            off = max(off, abs(float(u[0] * rel[1] - u[1] * rel[0])))
+        if float(rel @ u) >= distance:
+            done = w.time - t0
+            break
+    speed = distance / (done - touch) if done is not None else None
+    return {"done": done is not None, "speed": speed, "held": done is not None and gap <= HOLD,
+            "gap": gap, "off_line": off, "falls": int(m.referee.falls["L"]), "touch_s": touch,
+            "progress": float((w.ball_position()[:2] - ball) @ u)}
+
+
+def dribble_stats(robot_type: int, tries: int, seed: int = 0, **kw) -> dict:
+    """Aggregate of `tries` trials (one JSON row)."""
+    rng = np.random.default_rng([seed, robot_type])
+    rows = [trial(robot_type, rng, seed * 1000 + i, **kw) for i in range(tries)]
+    done = [r for r in rows if r["done"]]
+    speeds = np.array([r["speed"] for r in done])
+    goal = sum(r["held"] and r["speed"] >= GOAL_SPEED for r in rows)
+    return {
+        "robot_type": robot_type, "tries": tries,
+        "done": len(done), "held": sum(r["held"] for r in rows),
+        "speed_median": round(float(np.median(speeds)), 3) if len(done) else None,
+        "speed_range": [round(float(speeds.min()), 3), round(float(speeds.max()), 3)] if len(done) else None,
+        "goal_met": goal, "goal_ci95": [round(v, 3) for v in rate_ci(goal, tries)],
+        "gap_median": round(float(np.median([r["gap"] for r in rows])), 2),
+        "off_line_median": round(float(np.median([r["off_line"] for r in rows])), 2),
+        "progress_median": round(float(np.median([r["progress"] for r in rows])), 2),
+        "touch_median_s": round(float(np.median([r["touch_s"] if r["touch_s"] is not None else math.inf
+                                                 for r in rows])), 2),
+        "falls": sum(r["falls"] for r in rows),
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.dribble", description=__doc__.splitlines()[0])
+    ap.add_argument("--types", default="0,1,2,3,4", help="robot types, comma-separated (default all)")
+    ap.add_argument("--tries", type=int, default=10, help="tries per type (default 10)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--distance", type=float, default=10.0, help="m the ball is to go (default 10)")
+    ap.add_argument("--start", type=float, default=0.5, help="m behind the ball at the start (default 0.5)")
+    ap.add_argument("--spread", type=float, default=30.0,
+                    help="deg either side of +x for the target (default 30)")
+    ap.add_argument("--limit", type=float, default=60.0, help="s a try may take (default 60)")
+    args = ap.parse_args(argv)
+    try:
+        types = [int(t) for t in args.types.split(",") if t.strip()]
+    except ValueError:
+        ap.error(f"--types: whole numbers 0-4, comma-separated, got {args.types!r}")
+    if not types or any(t not in range(5) for t in types):
+        ap.error(f"--types: robot types are 0-4, got {args.types!r}")
+    if args.tries < 1 or not 0 < args.distance <= 12 or args.start < 0 or args.limit <= 0:
+        got = f"{args.tries}, {args.distance}, {args.start}, {args.limit}"
+        ap.error("--tries >= 1, 0 < --distance <= 12 (the ball starts 6 m from the field's center), "
+                 f"--start >= 0 and --limit > 0 (got {got})")
+    print(json.dumps({"machine": machine()}), flush=True)
+    for t in types:
+        print(json.dumps(dribble_stats(t, args.tries, args.seed, distance=args.distance, start=args.start,
+                                       spread=args.spread, limit=args.limit)), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
