@@ -64,10 +64,21 @@ WALK_SPECS: tuple[ParamSpec, ...] = (
     ParamSpec("pid_arm_y", 0.1, -2.0, 2.0),
 )
 
+# The engine's additions to UT's set, learned only when a task names them: the joint
+# controller's gain (1/s), the forward swing's steepness and the ankles' gyro damping.
+WALK_NAMED_SPECS: tuple[ParamSpec, ...] = (
+    ParamSpec("joint_kp", 3.0, 5.0, 60.0),
+    ParamSpec("swing_steepness", 1.5, 2.0, 30.0),
+    ParamSpec("gyro_pitch", 0.005, -0.1, 0.1),
+    ParamSpec("gyro_pitch_walk", 0.005, -0.1, 0.1),
+    ParamSpec("gyro_roll", 0.01, -0.2, 0.2),
+)
+
 
 def _walk_set(name: str, prefix: str) -> ParamSetDef:
     return ParamSetDef(name=name, prefix=prefix, schema=WALK_SCHEMA, specs=WALK_SPECS,
-                       defaults=default_param_files, inherit=None if not prefix else "go_to_target")
+                       defaults=default_param_files, inherit=None if not prefix else "go_to_target",
+                       named_specs=WALK_NAMED_SPECS)
 
 
 # Every parameter set a task may use, by name. Getup and kick skills add theirs here

@@ -47,9 +47,10 @@ class ParamSetDef:
     defaults: Callable[[int], list[PathLike]] | None = None
     inherit: str | None = None
     start: Mapping[str, float] = field(default_factory=dict)  # built-in values under the files
+    named_specs: tuple[ParamSpec, ...] = ()
 
     def spec(self, name: str) -> ParamSpec:
-        for s in self.specs:
+        for s in (*self.specs, *self.named_specs):
             if s.name == name:
                 return s
         if name not in self.schema:
