@@ -28,6 +28,7 @@ class TeamConfig:
     formation_shift: float = 0.0  # m added to every formation x (+: offensive, -: defensive)
     nearest_stopper: bool = False  # the supporter role goes to the nearest field player first (PtW 6)
     path_cost: bool = False  # role costs walk round the ball and the on-ball player (PtW 6)
+    sprint_within: float | None = None  # deg: the sprint set toward a target this straight ahead (A.1.4)
 
 
 VILLA = TeamConfig()
@@ -51,6 +52,7 @@ VARIANTS: dict[str, TeamConfig] = {
     "DribbleOnly": TeamConfig(kicks=False),
     "KickOnly": TeamConfig(dribble=False),
     "WideBox": TeamConfig(kick_box=1.5),  # kicks start from a stance box 1.5x as wide: fewer aligns
+    "Sprint": TeamConfig(sprint_within=15.0),  # the sprint set toward targets within 15 deg
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

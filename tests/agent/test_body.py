@@ -10,7 +10,8 @@ import pytest
 
 from agent.player import Player
 from agent.posture import PostureAgent
-from agent.requests import Dribble, Kick
+from agent.requests import Dribble, Kick, WalkTo
+from agent.teamconfig import TeamConfig
 from models.rules import PlayMode
 from models.scene import Lineup
 from server.match import Match
@@ -50,3 +51,35 @@ def test_on_ball_player_moves_the_ball_toward_the_goal(seed):
     assert np.hypot(*moved) > 2.0, f"the ball moved only {np.hypot(*moved):.2f} m"
     assert moved[0] > 1.0  # toward the opponents' goal (+x for the left team)
     assert m.referee.falls["L"] == 0
+
+
+class _Walker(Player):
+    """The villa player asked only to walk to `goal` (team frame, m)."""
+
+    goal = (0.0, 0.0)
+
+    def decide(self, view):
+        return WalkTo(*self.goal)
+
+
+def _walked(sprint_within: float | None, seconds: float = 8.0) -> tuple[float, int]:
+    """m walked toward a target 6 m straight ahead in `seconds`, and the falls."""
+    def factory(side, unum, robot_type, seed):
+        return _Walker(side, unum, robot_type, seed, TeamConfig(sprint_within=sprint_within))
+    m = Match(factory, PostureAgent, Lineup((0,), (0,)), half_time=300, seed=4)
+    for _ in range(60):
+        m.step()
+    place(m, 0, -6.0, 0.0, 0.0)
+    m.world.place_robot(1, 14.5, 9.0, math.pi)  # out of the way
+    m.agents[0].goal = (0.0, 0.0)
+    m.referee.set_play_mode(PlayMode.PLAY_ON)
+    for _ in range(round(seconds / 0.02)):
+        m.step()
+    return float(m.world.player_pose(0)[0] + 6.0), m.referee.falls["L"]
+
+
+def test_targets_straight_ahead_are_walked_to_with_the_sprint_set():
+    plain, plain_falls = _walked(None)
+    sprint, sprint_falls = _walked(15.0)
+    assert plain_falls == sprint_falls == 0
+    assert sprint > plain + 0.2, f"sprint set {sprint:.2f} m, go-to-target {plain:.2f} m in 8 s"
