@@ -173,7 +173,7 @@ class Motion:
         if kp is not None:
             pid.kp[:] = kp
         elif set_name in walk.sets:
-            pid.kp[:] = walk.sets[set_name].joint_kp
+            pid.kp[:] = walk.select(set_name).joint_kp
         if head is not None or set_name not in walk.sets:
             pitch, roll = self.sense(percept)
             out = self.last = walk.update(x, y, turn, set_name, tilt=pitch, roll=roll, gyro=percept.gyro,

@@ -328,13 +328,21 @@ class WalkEngine:
             com_int, com_float, dt, feet, q, full)
         return WalkOutput(q, (ox, oy, oth), standing)
 
+    def select(self, set_name: str) -> WalkParams:
+        """Walk with set `set_name` from now, or, while a step is under way, from the next
+        step's beginning (a change of set mid-swing can trip the robot); the set in use."""
+        if set_name not in self.sets:
+            raise KeyError(f"unknown walk set {set_name!r}; sets are {', '.join(self.sets)}")
+        p = self.sets[set_name]
+        if p is not self.params and (not self.walking or self.step_begins()):
+            self.params = p
+        return self.params
+
     def _kernel_args(self, set_name: str) -> tuple:
         """Take walk set `set_name` for this cycle; the walk kernels' state, parameters and
         tables: (state, params, leg constants, target indices, the CoM tables, dt, feet
         scratch, CoM scratch)."""
-        if set_name not in self.sets:
-            raise KeyError(f"unknown walk set {set_name!r}; sets are {', '.join(self.sets)}")
-        p = self.params = self.sets[set_name]
+        p = self.select(set_name)
         kin = self.kin
         return (self._s, self._param_vector(p), self._legs, self._idx, kin._com_int, kin._com_float, self.dt,
                 self._feet, self._full)

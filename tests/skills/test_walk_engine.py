@@ -163,3 +163,26 @@ def test_compiled_walk_matches_the_python_reference_bit_for_bit(robot_type):
             assert list(got) == list(exp), i
             assert all(_same(got[s][k], exp[s][k]) for s in "lr" for k in (0, 1)), i
         joints = np.where(np.isnan(want.targets), 0.0, want.targets) + rng.normal(0, 0.06, len(want.targets))
+
+
+def test_a_new_walk_set_takes_over_as_a_step_begins():
+    """Mid-swing a change of set waits for the next step (changing mid-swing tripped
+    the robot: the sprint course's falls, optimization.task.sprint)."""
+    e = WalkEngine(0)
+    for _ in range(30):
+        e.update(1.0, 0.0, 0.0)
+    while e.step_begins():  # into a step's swing
+        e.update(1.0, 0.0, 0.0)
+    gtt, sprint = e.sets["go_to_target"], e.sets["sprint"]
+    assert e.walking and e.params is gtt
+    cycles = 0
+    while not e.step_begins():
+        e.update(1.0, 0.0, 0.0, set_name="sprint")
+        assert e.params is gtt
+        cycles += 1
+    assert cycles >= 1
+    e.update(1.0, 0.0, 0.0, set_name="sprint")
+    assert e.params is sprint
+    e.reset()  # standing: at once
+    e.update(0.0, 0.0, 0.0, set_name="go_to_target")
+    assert e.params is gtt

@@ -102,7 +102,10 @@ class WalkEngineRef:
         """
         if set_name not in self.sets:
             raise KeyError(f"unknown walk set {set_name!r}; sets are {', '.join(self.sets)}")
-        p = self.params = self.sets[set_name]
+        p = self.sets[set_name]
+        if p is not self.params and self.walking and not self.step_begins():
+            p = self.params  # a new set takes over as a step begins
+        self.params = p
         # Scalar floats (the same operations as the 3-arrays they replaced, bit for bit).
         mx, my, ma = p.max_step_size_x, p.max_step_size_y, p.max_step_size_angle
         dx = _clip(float(x), -1.0, 1.0) * mx
