@@ -27,7 +27,10 @@ sends the ball a median 2.0-2.4 m ahead of the robot, which walks after it
 (the go-to-target set at full speed through the ball), and it strays a median
 0.7-1.5 m from the line. Goal met: 0 of 50.
 
-    python -m benchmarks.dribble [--types 0,1,2,3,4] [--tries 10] [--seed 0]
+`--variant NAME` dribbles with a villa variant's body (`villa:Sprint`: the sprint
+set toward a target within 15 deg, through the ball too).
+
+    python -m benchmarks.dribble [--types 0,1,2,3,4] [--tries 10] [--seed 0] [--variant NAME]
 """
 
 from __future__ import annotations
@@ -43,6 +46,8 @@ from agent.player import Player
 from agent.posture import PostureAgent
 from agent.requests import Dribble, SkillRequest, Stand
 from agent.strategy import TeamView
+from agent.teamconfig import VILLA, UnknownVariant
+from agent.teamconfig import variant as team_variant
 from benchmarks.machine import machine
 from benchmarks.stats import rate_ci
 from models.rules import PlayMode
@@ -65,10 +70,15 @@ class Dribbler(Player):
 
 
 def trial(robot_type: int, rng: np.random.Generator, seed: int, distance: float = 10.0,
-          start: float = 0.5, spread: float = 30.0, limit: float = 60.0) -> dict:
+          start: float = 0.5, spread: float = 30.0, limit: float = 60.0, variant: str | None = None) -> dict:
     """One try: done, speed (m/s), held, the ball's largest gap to the torso and to the
     target line (m), falls, and the seconds to the first touch."""
-    m = Match(Dribbler, PostureAgent, Lineup((robot_type,), (0,)), half_time=10 * limit, seed=seed)
+    config = VILLA if variant is None else team_variant(variant)
+
+    def dribbler(side: str, unum: int, t: int, s: int) -> Dribbler:
+        return Dribbler(side, unum, t, s, config)
+
+    m = Match(dribbler, PostureAgent, Lineup((robot_type,), (0,)), half_time=10 * limit, seed=seed)
     for _ in range(60):  # the beam and the first settling
         m.step()
     w = m.world
@@ -118,7 +128,7 @@ def dribble_stats(robot_type: int, tries: int, seed: int = 0, **kw) -> dict:
     speeds = np.array([r["speed"] for r in done])
     goal = sum(r["held"] and r["speed"] >= GOAL_SPEED for r in rows)
     return {
-        "robot_type": robot_type, "tries": tries,
+        "robot_type": robot_type, "tries": tries, "variant": kw.get("variant"),
         "done": len(done), "held": sum(r["held"] for r in rows),
         "speed_median": round(float(np.median(speeds)), 3) if len(done) else None,
         "speed_range": [round(float(speeds.min()), 3), round(float(speeds.max()), 3)] if len(done) else None,
@@ -142,6 +152,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--spread", type=float, default=30.0,
                     help="deg either side of +x for the target (default 30)")
     ap.add_argument("--limit", type=float, default=60.0, help="s a try may take (default 60)")
+    ap.add_argument("--variant", default=None, help="the villa variant whose body dribbles (e.g. Sprint)")
     args = ap.parse_args(argv)
     try:
         types = [int(t) for t in args.types.split(",") if t.strip()]
@@ -153,10 +164,16 @@ def main(argv: list[str] | None = None) -> int:
         got = f"{args.tries}, {args.distance}, {args.start}, {args.limit}"
         ap.error("--tries >= 1, 0 < --distance <= 12 (the ball starts 6 m from the field's center), "
                  f"--start >= 0 and --limit > 0 (got {got})")
+    if args.variant is not None:
+        try:
+            team_variant(args.variant)
+        except UnknownVariant as e:
+            ap.error(str(e))
     print(json.dumps({"machine": machine()}), flush=True)
     for t in types:
-        print(json.dumps(dribble_stats(t, args.tries, args.seed, distance=args.distance, start=args.start,
-                                       spread=args.spread, limit=args.limit)), flush=True)
+        row = dribble_stats(t, args.tries, args.seed, distance=args.distance, start=args.start,
+                            spread=args.spread, limit=args.limit, variant=args.variant)
+        print(json.dumps(row), flush=True)
     return 0
 
 

@@ -30,7 +30,7 @@ from optimization.kick import approach_param_set, kick_param_set, shipped_kick_s
 from optimization.types import ParamSetDef, ParamSpec, Values
 from server.files import write_text
 from skills.params import ParamError, PathLike, read_entries
-from skills.walk import WALK_SCHEMA, WALK_SETS, default_param_files
+from skills.walk import WALK_SCHEMA, WALK_SETS, WalkParams, default_param_files
 
 # Walk parameters CMA-ES tunes (27, as UT's Table 8.2 set), sigma and bounds in file units
 # (mm, rad, s, 1). The bounds keep the engine valid (fractions in (0, 1], a leg that reaches).
@@ -39,7 +39,8 @@ WALK_SPECS: tuple[ParamSpec, ...] = (
     ParamSpec("max_step_size_y", 8.0, 5.0, 120.0),
     ParamSpec("max_step_size_angle", 0.15, 0.1, 2.0),
     ParamSpec("shift_amount", 4.0, 0.0, 60.0),
-    ParamSpec("walk_height", 8.0, 130.0, 195.0),
+    ParamSpec("walk_height", 8.0, 130.0, 240.0),  # types 1 and 3 stand at 216 and 233 mm; past a
+    # leg's reach (type 0: 203 mm hip to ankle) the IK clamps it
     ParamSpec("step_height", 4.0, 5.0, 60.0),
     ParamSpec("fraction_still", 0.05, 0.0, 0.5),
     ParamSpec("fraction_on_ground", 0.05, 0.0, 0.5),
@@ -76,9 +77,11 @@ WALK_NAMED_SPECS: tuple[ParamSpec, ...] = (
 
 
 def _walk_set(name: str, prefix: str) -> ParamSetDef:
+    engine = WalkParams()  # the engine's own values of the named specs under the files (all unit "1")
     return ParamSetDef(name=name, prefix=prefix, schema=WALK_SCHEMA, specs=WALK_SPECS,
                        defaults=default_param_files, inherit=None if not prefix else "go_to_target",
-                       named_specs=WALK_NAMED_SPECS)
+                       named_specs=WALK_NAMED_SPECS,
+                       start={s.name: float(getattr(engine, s.name)) for s in WALK_NAMED_SPECS})
 
 
 # Every parameter set a task may use, by name. Getup and kick skills add theirs here
