@@ -65,7 +65,8 @@ class Player:
         self.robot_type = robot_type
         self.config = config
         self.world = WorldModel(side, unum, seed=seed)
-        self.body = Body(robot_type, config.kick_box, config.sprint_within)
+        self.body = Body(robot_type, config.kick_box,
+                         config.sprint_within if robot_type in config.sprint_types else None)
         self.formation = _formation(config.formation)
         self.votes = VoteWindow(TEAM_SIZE)
         self.vote: tuple[int, ...] | None = None  # this player's own role mapping
