@@ -27,9 +27,9 @@ def test_walk_step_matches_its_parts_bit_for_bit(robot_type):
         v = fused.walk_step(percept, *cmd, set_name, kp=kp)
         # The same cycle by parts, as walk_step ran before it was one call.
         pitch, roll = parts.sense(percept)
-        parts.pid.kp[:] = kp if kp is not None else parts.walk.sets[set_name].joint_kp
         out = parts.walk.update(*cmd, set_name, tilt=pitch, roll=roll, gyro=percept.gyro,
                                 joints=percept.joints)
+        parts.pid.kp[:] = kp if kp is not None else parts.walk.params.joint_kp  # the set in use
         want = parts.command(out.targets.copy(), percept)
         assert v.tobytes() == want.tobytes(), i
         assert fused.last.targets.tobytes() == out.targets.tobytes(), i
