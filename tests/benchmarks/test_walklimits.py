@@ -36,8 +36,8 @@ def test_cli_rejects_bad_types(capsys):
 
 
 def test_a_higher_speed_cap_is_measured_against_the_raised_cap():
-    base = walklimits.walk_limits(0, "sprint", seconds=2.0)
-    fast = walklimits.walk_limits(0, "sprint", seconds=2.0, cap_scale=1.5)
+    base = walklimits.walk_limits(0, "go_to_target", seconds=2.0)
+    fast = walklimits.walk_limits(0, "go_to_target", seconds=2.0, cap_scale=1.5)
     assert fast["cap_scale"] == 1.5
     # the knee reaches speeds the league's cap forbids, and sits at the raised cap less
     assert fast["joints"]["lj4"]["peak_rad_s"] > 1.05 * base["joints"]["lj4"]["peak_rad_s"]
