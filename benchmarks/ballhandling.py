@@ -42,6 +42,7 @@ from dataclasses import replace
 import numpy as np
 
 from agent.kicker import APPROACH, Kicker
+from benchmarks.args import robot_types
 from benchmarks.machine import machine
 from benchmarks.stats import rate_ci
 from models.messages import Action
@@ -133,12 +134,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--kick-box", type=float, default=1.0, metavar="K",
                     help="the kicks' stopping boxes times K (default 1; villa:WideBox plays 1.5)")
     args = ap.parse_args(argv)
-    try:
-        types = [int(t) for t in args.types.split(",") if t.strip()]
-    except ValueError:
-        ap.error(f"--types: whole numbers 0-4, comma-separated, got {args.types!r}")
-    if not types or any(t not in range(5) for t in types):
-        ap.error(f"--types: robot types are 0-4, got {args.types!r}")
+    types = robot_types(ap, args.types)
     if args.tries < 1 or args.kick_box <= 0:
         ap.error(f"--tries must be at least 1 and --kick-box positive (got {args.tries}, {args.kick_box})")
     names = [k.strip() for k in args.kicks.split(",") if k.strip()] or None

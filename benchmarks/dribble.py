@@ -48,6 +48,7 @@ from agent.requests import Dribble, SkillRequest, Stand
 from agent.strategy import TeamView
 from agent.teamconfig import VILLA, UnknownVariant
 from agent.teamconfig import variant as team_variant
+from benchmarks.args import robot_types
 from benchmarks.machine import machine
 from benchmarks.stats import rate_ci
 from models.rules import PlayMode
@@ -154,12 +155,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--limit", type=float, default=60.0, help="s a try may take (default 60)")
     ap.add_argument("--variant", default=None, help="the villa variant whose body dribbles (e.g. Sprint)")
     args = ap.parse_args(argv)
-    try:
-        types = [int(t) for t in args.types.split(",") if t.strip()]
-    except ValueError:
-        ap.error(f"--types: whole numbers 0-4, comma-separated, got {args.types!r}")
-    if not types or any(t not in range(5) for t in types):
-        ap.error(f"--types: robot types are 0-4, got {args.types!r}")
+    types = robot_types(ap, args.types)
     if args.tries < 1 or not 0 < args.distance <= 12 or args.start < 0 or args.limit <= 0:
         got = f"{args.tries}, {args.distance}, {args.start}, {args.limit}"
         ap.error("--tries >= 1, 0 < --distance <= 12 (the ball starts 6 m from the field's center), "

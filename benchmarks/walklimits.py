@@ -62,6 +62,7 @@ import sys
 
 import numpy as np
 
+from benchmarks.args import robot_types
 from benchmarks.machine import machine
 from models import nao
 from models.messages import SEEN_PARTS, Action
@@ -188,12 +189,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.cap_scale <= 0 or args.torque_scale <= 0:
         ap.error(f"--cap-scale and --torque-scale must be positive, got {args.cap_scale} "
                  f"and {args.torque_scale}")
-    try:
-        types = [int(t) for t in args.types.split(",") if t.strip()]
-    except ValueError:
-        ap.error(f"--types: whole numbers 0-4, comma-separated, got {args.types!r}")
-    if any(t not in range(5) for t in types):
-        ap.error(f"--types: robot types are 0-4, got {args.types!r}")
+    types = robot_types(ap, args.types)
     if args.seconds <= 0:
         ap.error(f"--seconds must be positive, got {args.seconds}")
     sets = [s.strip() for s in args.sets.split(",") if s.strip()]
