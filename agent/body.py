@@ -26,7 +26,7 @@ from models.rules import CYCLE
 from skills.dive import Dive as DiveSkill
 from skills.imu import TiltEstimator
 from skills.kicks import all_kicks
-from skills.navigate import walk_toward
+from skills.navigate import sprints, walk_toward
 
 BEAM_SETTLE = 0.5  # s standing still after a beam
 STOP_DISTANCE = 0.08  # m from a WalkTo target where the robot stands
@@ -42,15 +42,14 @@ RELEASE = 1.6  # m: the ball got this far away during the approach: walk again
 SYNC_NEAR = 0.6  # m: farther from the ball the kicker's pose follows the world model's ...
 SYNC_POSITION = 0.25  # m ... when it is this far off
 SYNC_HEADING = math.radians(15.0)  # rad ... or turned this much
-SPRINT_BEYOND = 0.5  # m: nearer targets are walked to with the go-to-target set (A.1.4)
 
 
 class Body:
     """Skills of one robot behind the requests of `agent.requests`.
 
     kick_box: the kicks' tolerance boxes (where the approach must stop) scaled by this;
-    sprint_within: the bearing (deg) within which a target farther than SPRINT_BEYOND is
-    walked to with the "sprint" set, not "go_to_target" (None: never)."""
+    sprint_within: the bearing (deg) within which a far target is walked to with the
+    "sprint" set, not "go_to_target" (None: never; `skills.navigate.sprints`)."""
 
     def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None) -> None:
         self.robot_type = robot_type
@@ -218,8 +217,7 @@ class Body:
         dheading = None if heading is None else wrap(heading - h)
         if math.hypot(dx, dy) < STOP_DISTANCE and (dheading is None or abs(dheading) < STOP_TURN):
             return self._walk(percept, world, 0.0, 0.0, 0.0, set_name)
-        if (sprint and set_name == "go_to_target" and self.sprint_within is not None
-                and math.hypot(dx, dy) > SPRINT_BEYOND and abs(math.atan2(dy, dx)) < self.sprint_within):
+        if sprint and set_name == "go_to_target" and sprints(dx, dy, self.sprint_within):
             set_name = "sprint"
         params = self.motion.walk.sets[set_name]
         return self._walk(percept, world, *walk_toward(dx, dy, dheading, params), set_name)

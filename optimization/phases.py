@@ -44,7 +44,7 @@ from models.rules import CYCLE
 from models.scene import Lineup
 from server.trainer import Trainer
 from skills.motion import Motion
-from skills.navigate import Odometry, walk_toward
+from skills.navigate import SPRINT_BEYOND, Odometry, sprints, walk_toward
 from skills.walk import WalkEngine, WalkParams
 
 FALL_PENALTY = 5.0  # utility lost by a phase in which the robot fell (UT's Fall)
@@ -62,7 +62,7 @@ class WalkAgent:
     """
 
     def __init__(self, robot_type: int, sets: Mapping[str, WalkParams],
-                 sprint_within: float | None = None, sprint_beyond: float = 0.5) -> None:
+                 sprint_within: float | None = None, sprint_beyond: float = SPRINT_BEYOND) -> None:
         self.motion = Motion(robot_type, WalkEngine(robot_type, dict(sets)))
         self.odo = Odometry()
         self.sprint_within = sprint_within
@@ -88,10 +88,7 @@ class WalkAgent:
     def goto(self, percept: Percept, tx: float, ty: float) -> np.ndarray:
         """Walk toward (tx, ty) in the dead-reckoning frame, turning to face it."""
         dx, dy = self.odo.relative(tx, ty)
-        set_name = "go_to_target"
-        if (self.sprint_within is not None and math.hypot(dx, dy) > self.sprint_beyond
-                and abs(math.atan2(dy, dx)) < self.sprint_within):
-            set_name = "sprint"
+        set_name = "sprint" if sprints(dx, dy, self.sprint_within, self.sprint_beyond) else "go_to_target"
         params = self.motion.walk.sets[set_name]
         return self.walk(percept, *walk_toward(dx, dy, None, params), set_name=set_name)
 

@@ -18,6 +18,13 @@ from models.geometry import Pose2, rotate, wrap
 from skills.walk import WalkParams, direction_to_xy
 
 SIDE_AT_SPEED = 0.5  # share of the side input kept while the forward input is 0.6 or more
+SPRINT_BEYOND = 0.5  # m: nearer targets are walked to with the go-to-target set (A.1.4)
+
+
+def sprints(dx: float, dy: float, within: float | None, beyond: float = SPRINT_BEYOND) -> bool:
+    """Whether a target at (dx, dy) (torso frame, m) is walked to with the "sprint" set:
+    within `within` rad of straight ahead (None: never) and farther than `beyond` m (A.1.4)."""
+    return within is not None and math.hypot(dx, dy) > beyond and abs(math.atan2(dy, dx)) < within
 
 
 def walk_toward(dx: float, dy: float, dheading: float | None, params: WalkParams,
