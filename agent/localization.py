@@ -27,6 +27,11 @@ Deviations, each to make the filter fast or quick to recover:
   a 600 m^2 field.
 * The random walk grows (up to 8x) while even the best particle fits the
   observations badly, so a cloud that collapsed next to the truth moves onto it.
+* The walk's odometry arrives every cycle and moves the estimate at once, but the
+  particles only when they are next read (in practice once per vision frame), by
+  the steps composed since, with noise of 1/sqrt(steps) of the per-step fraction
+  (the spread of that many equal steps with independent noise): one pass over the
+  particles per frame instead of three.
 * Resampling is systematic (the algorithm of filterpy's `systematic_resample`)
   but compiled (one pass over the cumulative weights) and driven by this
   filter's own seeded generator: filterpy's version loops in Python and draws
@@ -43,7 +48,7 @@ import numpy as np
 from agent import _kernels as kernels
 from agent.geometry import landmarks_in_team, lines_in_team
 from models import field
-from models.geometry import wrap
+from models.geometry import rotate, wrap
 
 # UT Austin Villa's odometry factors (a, b, c) for x, y and turn, as shared/NAO.md
 # reads them from PFLocalization.cc: fitted to their walk's odometry.
@@ -138,7 +143,11 @@ class ParticleFilter:
         self._low = -self._high
         self._range = self._high - self._low
         n_p = self.params.n_particles
-        self.particles = np.zeros((n_p, 3))
+        self._particles = np.zeros((n_p, 3))
+        # Odometry not yet applied to the particles: the scaled steps composed in the torso
+        # frame of the first of them (m, m, rad), and how many (see predict).
+        self._pending, self._pending_steps = (0.0, 0.0, 0.0), 0
+        self._scratch_pose = np.zeros(3)
         self._spare = np.zeros((n_p, 3))  # the next resampling's output; then they swap
         self._c, self._s = np.empty(n_p), np.empty(n_p)  # particle heading cosines, sines
         self._ll, self._tmp = np.empty(n_p), np.empty(n_p)  # log-likelihoods, scratch
@@ -161,9 +170,10 @@ class ParticleFilter:
 
     def reset_uniform(self) -> None:
         """Forget everything: particles spread uniformly over the field and headings."""
-        self.particles[:] = self._uniform(len(self.particles))
+        self._pending, self._pending_steps = (0.0, 0.0, 0.0), 0
+        self._particles[:] = self._uniform(len(self._particles))
         self.weights.fill(1.0 / len(self.weights))
-        self._pose = self._mean(self.particles, self.weights)
+        self._pose = self._mean(self._particles, self.weights)
         self._spread = float("inf")
 
     def reset_around(self, x: float, y: float, theta: float, sigma_xy: float = 0.1,
@@ -171,12 +181,13 @@ class ParticleFilter:
         """Put `fraction` of the particles (the rest stay) in a Gaussian around a pose
         (team frame; m, rad), e.g. after a beam or a teammate's report. The estimate is
         that pose until the next update weighs the particles."""
-        n = len(self.particles)
+        p = self.particles
+        n = len(p)
         k = max(1, min(n, int(round(fraction * n))))
         idx = self.rng.choice(n, k, replace=False) if k < n else np.arange(n)
         noise = self.rng.standard_normal((k, 3)) * (sigma_xy, sigma_xy, sigma_theta)
-        self.particles[idx] = np.array([x, y, theta]) + noise
-        self.particles[idx, 2] = wrap(self.particles[idx, 2])
+        p[idx] = np.array([x, y, theta]) + noise
+        p[idx, 2] = wrap(p[idx, 2])
         self.weights.fill(1.0 / n)
         self._pose = np.array([x, y, float(wrap(theta))])  # until the next update weighs them
         self._spread = sigma_xy
@@ -191,15 +202,39 @@ class ParticleFilter:
     # ---------------------------------------------------------------- odometry
 
     def predict(self, dx: float, dy: float, dtheta: float) -> None:
-        """Move every particle by an odometry step (dx, dy in m in the torso frame at the
-        step's start, dtheta in rad), scaled and perturbed per `LocalizationParams`."""
+        """Move the estimate by an odometry step (dx, dy in m in the torso frame at the
+        step's start, dtheta in rad) scaled per `LocalizationParams`; the particles follow
+        when next read (`particles`, `update`), by the steps composed since."""
         if dx == 0.0 and dy == 0.0 and dtheta == 0.0:
             return
         sx, sy, st = self.params.odometry_scale
+        ex, ey, et = sx * dx, sy * dy, st * dtheta
+        x, y, t = self._pose.tolist()
+        rx, ry = rotate(ex, ey, t)
+        self._pose = np.array([x + rx, y + ry, wrap(t + et)])
+        px, py, pt = self._pending
+        rx, ry = rotate(ex, ey, pt)
+        self._pending = (px + rx, py + ry, pt + et)
+        self._pending_steps += 1
+
+    @property
+    def particles(self) -> np.ndarray:
+        """The (n, 3) particles (team frame; m, m, rad), moved by the odometry so far."""
+        if self._pending_steps:
+            self._apply_odometry()
+        return self._particles
+
+    def _apply_odometry(self) -> None:
+        """Move the particles by the composed pending steps, perturbed by Gaussian noise of
+        `odometry_noise` / sqrt(steps) of the composite: the spread k equal steps with
+        independent noise of `odometry_noise` each would give (k = steps)."""
         nx, ny, nt = self.params.odometry_noise
+        k = math.sqrt(self._pending_steps)
+        ex, ey, et = self._pending
         # The noise: (n, 3) standard normal draws of self.rng, as rng.standard_normal((n, 3)).
-        kernels.predict_particles(self.particles, self._pose, self._draws(), sx * dx, sy * dy, st * dtheta,
-                                  nx, ny, nt)
+        kernels.predict_particles(self._particles, self._scratch_pose, self._draws(), ex, ey, et,
+                                  nx / k, ny / k, nt / k)
+        self._pending, self._pending_steps = (0.0, 0.0, 0.0), 0
 
     # ------------------------------------------------------------ observations
 
@@ -261,7 +296,7 @@ class ParticleFilter:
         (l, 2, 2+) level-frame end points (m) of observed field lines. Returns False
         (and changes nothing) when neither a landmark nor a usable line was seen.
         """
-        p, c, s = self.particles, self._c, self._s
+        p, c, s = self.particles, self._c, self._s  # particles: odometry applied
         lm_idx, landmarks, n_landmarks, n_lines = self._observed(p, landmark_names, landmarks, lines, c, s,
                                                                  self._ll, self._tmp)
         self.last_update_seen = n_landmarks > 0 or n_lines > 0
@@ -278,7 +313,7 @@ class ParticleFilter:
             self._draws(), int(round(pr.random_fraction * len(p))), pr.walk_xy, pr.walk_theta,
             pr.walk_max_growth, self._low, self._range, self._lm_xy, lm_idx, landmarks, pr.seed_sigma_theta,
             out)
-        self._spare, self.particles = p, out
+        self._spare, self._particles = p, out
         return True
 
     # ---------------------------------------------------------------- estimate

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from agent.geometry import landmarks_in_team, lines_in_team
-from agent.localization import ParticleFilter
+from agent.localization import LocalizationParams, ParticleFilter
 
 from .helpers import perceiving_match, place_standing, pose_error, run
 
@@ -60,6 +61,40 @@ def test_predict_moves_in_the_torso_frame():
     sx, _, st = pf.params.odometry_scale  # the walk's fitted odometry factors
     np.testing.assert_allclose(pf.pose, [1.0, 1.0 + 0.1 * sx, math.pi / 2 + 0.2 * st], atol=1e-9)
     np.testing.assert_allclose(pf.particles.mean(axis=0)[:2], [1.0, 1.0 + 0.1 * sx], atol=0.01)
+
+
+def test_the_particles_follow_the_composed_odometry():
+    steps = [(0.02, 0.01, 0.3), (0.03, -0.01, -0.1), (0.01, 0.0, 0.2)]
+    pf = ParticleFilter("L", seed=5, params=replace(LocalizationParams(), odometry_noise=(0.0, 0.0, 0.0)))
+    pf.reset_around(-2.0, 1.0, 0.4, sigma_xy=0.5, sigma_theta=0.5)
+    start = pf.particles.copy()
+    for step in steps:
+        pf.predict(*step)
+    sx, sy, st = pf.params.odometry_scale
+    expect = start.copy()
+    for dx, dy, dt in steps:  # step by step, each in the particle's own frame
+        c, s = np.cos(expect[:, 2]), np.sin(expect[:, 2])
+        expect[:, 0] += c * sx * dx - s * sy * dy
+        expect[:, 1] += s * sx * dx + c * sy * dy
+        expect[:, 2] += st * dt
+    got = pf.particles
+    np.testing.assert_allclose(got[:, :2], expect[:, :2], atol=1e-12)
+    np.testing.assert_allclose(np.cos(got[:, 2] - expect[:, 2]), 1.0, atol=1e-12)
+
+
+def test_odometry_noise_grows_as_per_step_noise_would():
+    """k equal steps applied at once spread the particles as k steps with independent
+    noise of the per-step fraction would: by sqrt(k) times one step's noise."""
+    k, step = 3, 0.05
+    pf = ParticleFilter("L", seed=6)
+    pf.reset_around(0.0, 0.0, 0.0, sigma_xy=1e-9, sigma_theta=1e-9)
+    for _ in range(k):
+        pf.predict(step, 0.0, 0.0)
+    x = pf.particles[:, 0]
+    sx = pf.params.odometry_scale[0]
+    nx = pf.params.odometry_noise[0]
+    assert abs(x.mean() - k * sx * step) < 0.003
+    assert abs(x.std() / (math.sqrt(k) * nx * sx * step) - 1.0) < 0.15
 
 
 def test_nothing_seen_changes_nothing():
