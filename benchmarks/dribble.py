@@ -27,6 +27,13 @@ sends the ball a median 2.0-2.4 m ahead of the robot, which walks after it
 (the go-to-target set at full speed through the ball), and it strays a median
 0.7-1.5 m from the line. Goal met: 0 of 50.
 
+Why the ball gets away: on this field a ball rolled off at 0.3, 0.5, 0.8 and 1.2 m/s
+stops 0.6, 1.1, 1.8 and 2.8 m on, so a push must leave the foot below about 0.5 m/s
+for a robot at 0.35 m/s to stay within 1 m; the walk's swing foot meets the ball
+faster than that. Walking through the ball with the position-to-dribble set instead
+(tried, 8 tries a type, not shipped): gap 1.5-1.9 m (types 0-4), off line 0.5-1.5 m,
+0.28-0.33 m/s, one fall (type 2); still 0 held.
+
 `--variant NAME` dribbles with a villa variant's body (`villa:Sprint`: the sprint
 set toward a target within 15 deg, through the ball too).
 
