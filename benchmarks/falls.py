@@ -9,10 +9,11 @@ robot and the ball were. Printed, per team: falls a player-minute by robot type,
 share by activity, the share with another robot within `NEAR` m (a collision or a
 pile-up), and the share that came within LOOKBACK s of a getup (down again at once).
 
-What it showed (villa against villa, seeds 0-2, 150-300 s each, December 2026): 97
-falls in 750 s of play; 53 of them with another robot within 0.6 m, 29 right after a
-getup (most of those in a pile-up), 21 while dribbling and 13 on the way to a kick;
-which robot type falls most changed from match to match.
+What it showed (villa against villa, `--games 3 --seconds 200`, December 2026): 54
+falls in 600 s of play, 27 a team (a whole match's worth); 29 of them (54%) with
+another robot within 0.6 m; by activity dribbling 17, walking to a position 14, on
+the way to a kick 12, kicking 3, right after a getup 6 (5 of those in a crowd);
+per player-minute types 0-2 fell 0.13-0.50 times, types 3 and 4 0.05-0.15.
 
     python -m benchmarks.falls [--home villa] [--away villa] [--seconds 300] [--seed 0] [--games 1]
 """
