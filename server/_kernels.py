@@ -157,12 +157,13 @@ def fallen_rules(xpos: np.ndarray, xmat: np.ndarray, torso: np.ndarray, standing
 
     xpos, xmat: MjData's body positions and orientations; torso: each player's torso
     body; standing_z: torso heights (m) above which a player stands; thresholds:
-    (down, up again, standing) on the z of the torso's up axis. Updates `fallen`
-    (with hysteresis), `down_since` and `unsteady_since` (s, NaN while up or
-    standing); writes the players that fell this cycle to `new_falls` and those down
+    (down, standing) on the z of the torso's up axis. Updates `fallen` (down, and
+    then until the player stands again: a getup that sits up and leans forward
+    into its stand is one fall), `down_since` and `unsteady_since` (s, NaN while
+    up or standing); writes the players that fell this cycle to `new_falls` and those down
     or not standing longer than their limits to `late`. Returns how many of each.
     """
-    down_z, up_again_z, standing_up_z = thresholds
+    down_z, standing_up_z = thresholds
     nf = nl = 0
     for i in range(torso.shape[0]):
         up = xmat[torso[i], 8]
@@ -170,12 +171,13 @@ def fallen_rules(xpos: np.ndarray, xmat: np.ndarray, torso: np.ndarray, standing
         if down and not fallen[i]:
             new_falls[nf] = i
             nf += 1
-        fallen[i] = down or (fallen[i] and up <= up_again_z)
+        standing = up > standing_up_z and xpos[torso[i], 2] > standing_z[i]
+        fallen[i] = down or (fallen[i] and not standing)
         if not down:
             down_since[i] = np.nan
         elif np.isnan(down_since[i]):
             down_since[i] = now
-        if up > standing_up_z and xpos[torso[i], 2] > standing_z[i]:
+        if standing:
             unsteady_since[i] = np.nan
         elif np.isnan(unsteady_since[i]):
             unsteady_since[i] = now

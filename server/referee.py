@@ -41,8 +41,7 @@ LIVE = RESTARTS | {PM.PLAY_ON}
 GOALIE = 1  # uniform number of the goalie
 
 # Torso tilt thresholds on the z component of the torso's up axis.
-DOWN_UP_Z = 0.5  # below: lying (down)
-UP_AGAIN_Z = 0.8  # above: up again (hysteresis for counting falls)
+DOWN_UP_Z = 0.5  # below: lying (down); a fall is counted once until the player stands again
 STANDING_UP_Z = 0.7  # above, with the torso high enough: standing
 
 
@@ -309,7 +308,7 @@ class Referee:
         nf, nl = fallen_rules(
             d.xpos, d.xmat, w.torso_ids, self._standing_z, self.fallen, self.down_since,
             self.unsteady_since, self._down_limit, self._unsteady_limit, w.time,
-            (DOWN_UP_Z, UP_AGAIN_Z, STANDING_UP_Z), new_falls, late)
+            (DOWN_UP_Z, STANDING_UP_Z), new_falls, late)
         for i in new_falls[:nf].tolist():
             self.falls[self._team(i)] += 1
         if nl == 0 or self.mode not in LIVE:

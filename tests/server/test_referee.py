@@ -2,10 +2,17 @@
 
 import math
 
+import numpy as np
 import pytest
 
+from agent.player import Player
+from agent.posture import PostureAgent
 from models import field
 from models.rules import FREE_KICK_DISTANCE, PlayMode
+from models.scene import Lineup
+from server._kernels import fallen_rules
+from server.match import Match
+from server.referee import DOWN_UP_Z, STANDING_UP_Z
 from tests.server.helpers import far_away, place_standing, run, standing_match
 
 
@@ -174,6 +181,44 @@ def test_player_down_too_long_is_repositioned():
     assert moved and "too long" in moved[0].detail
     assert m.world.torso_up()[1] > 0.9  # put back on its feet, off the side line
     assert abs(m.world.torso_positions()[1, 1]) > 10.0
+
+
+def _count_falls(tilts_heights):
+    """New falls the referee's bookkeeping counts for one torso going through
+    (up-axis z, height in m) states, standing height 0.4 m."""
+    xpos, xmat = np.zeros((1, 3)), np.zeros((1, 9))
+    fallen, nan = np.zeros(1, dtype=bool), np.full(1, np.nan)
+    down_since, unsteady_since = nan.copy(), nan.copy()
+    new, late = np.empty(1, dtype=np.int64), np.empty(1, dtype=np.int64)
+    count = 0
+    for k, (up, z) in enumerate(tilts_heights):
+        xmat[0, 8], xpos[0, 2] = up, z
+        nf, _ = fallen_rules(xpos, xmat, np.zeros(1, dtype=np.int64), np.full(1, 0.24), fallen, down_since,
+                             unsteady_since, np.full(1, 1e9), np.full(1, 1e9), 0.02 * k,
+                             (DOWN_UP_Z, STANDING_UP_Z), new, late)
+        count += nf
+    return count
+
+
+def test_a_getup_that_leans_into_its_stand_is_one_fall():
+    lying, sitting_up, leaning_in, standing = (0.0, 0.1), (0.9, 0.15), (0.46, 0.2), (1.0, 0.4)
+    assert _count_falls([standing, lying, sitting_up, leaning_in, standing]) == 1
+    assert _count_falls([standing, lying, sitting_up, leaning_in, standing, lying, standing]) == 2
+    assert _count_falls([standing, (0.6, 0.4), standing]) == 0  # a stumble that never lies
+
+
+def test_a_real_getup_from_the_back_counts_one_fall():
+    """Type 2's getup from the back sits up, then leans its torso to 0.46 of vertical as
+    it rises: one fall, not two."""
+    m = Match(Player, PostureAgent, Lineup((2,), (0,)), half_time=300, seed=1)
+    run(m, 1.2)
+    m.world.place_robot(1, 14.5, 9.0, math.pi)
+    m.world.place_robot(0, -3.0, 0.0, 0.0, lying="back")
+    m.agents[0].world.beamed(-3.0, 0.0, 0.0)
+    m.referee.set_play_mode(PlayMode.PLAY_ON)
+    run(m, 8.0)
+    assert m.world.torso_up()[0] > 0.9  # up again
+    assert m.referee.falls["L"] == 1
 
 
 def test_a_dropped_kickoff_ball_may_be_scored_by_anyone():

@@ -1,0 +1,136 @@
+"""Where a team's falls happen: per fall in a match, what the player was doing and who was near.
+
+Plays `--games` matches of `--home` against `--away` (11 vs 11, seeds from `--seed`,
+`--seconds` of play from the kickoff each) and, at every fall the referee counts,
+notes from the fallen player's own state what it was doing `LOOKBACK` s before (the
+body's skill: getup, dive, kick:<kicker state>, or the request it was walking for:
+walkto, dribble, kick, stand) and from the ground truth how far the nearest other
+robot and the ball were. Printed, per team: falls a player-minute by robot type, the
+share by activity, the share with another robot within `NEAR` m (a collision or a
+pile-up), and the share that came within LOOKBACK s of a getup (down again at once).
+
+What it showed (villa against villa, `--games 3 --seconds 200`, December 2026): 54
+falls in 600 s of play, 27 a team (a whole match's worth); 29 of them (54%) with
+another robot within 0.6 m; by activity dribbling 17, walking to a position 14, on
+the way to a kick 12, kicking 3, right after a getup 6 (5 of those in a crowd);
+per player-minute types 0-2 fell 0.13-0.50 times, types 3 and 4 0.05-0.15.
+
+    python -m benchmarks.falls [--home villa] [--away villa] [--seconds 300] [--seed 0] [--games 1]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections import Counter, deque
+
+import numpy as np
+
+from benchmarks.machine import machine
+from cli.teams import UnknownTeam, factory
+from models.rules import CYCLE, PlayMode
+from models.scene import Lineup
+from server.match import Match
+
+LOOKBACK = 0.6  # s before the referee counts a fall whose activity is reported
+NEAR = 0.6  # m: another robot's torso this near counts as a collision
+
+
+def activity(agent) -> str:
+    """What a player is doing, from its own state: a villa player's body skill, or the
+    request it walks for; 'agent' for other agents."""
+    body = getattr(agent, "body", None)
+    if body is None:
+        return "agent"
+    if body.down:
+        return "getup"
+    if body.dive is not None:
+        return "dive"
+    if body.kicking:
+        return f"kick:{body.kicker.state}"
+    return type(agent.request).__name__.lower()
+
+
+def fall_rows(m: Match, seconds: float) -> list[dict]:
+    """Play `seconds` from the kickoff; one row per fall: game time (s), player index, side,
+    robot type, activity LOOKBACK s before, whether it was getting up within LOOKBACK s,
+    and the nearest other robot's and the ball's ground distance (m)."""
+    w, ref = m.world, m.referee
+    while ref.mode == PlayMode.BEFORE_KICK_OFF:
+        m.step()
+    recent = [deque(maxlen=round(LOOKBACK / CYCLE)) for _ in m.agents]
+    prev = ref.fallen.copy()
+    rows = []
+    for _ in range(round(seconds / CYCLE)):
+        m.step()
+        for r, agent in zip(recent, m.agents):
+            r.append(activity(agent))
+        new = np.nonzero(ref.fallen & ~prev)[0]
+        prev = ref.fallen.copy()
+        if not len(new):
+            continue
+        xy = w.torso_positions()[:, :2]
+        ball = w.ball_position()[:2]
+        for i in new.tolist():
+            d = np.hypot(*(xy - xy[i]).T)
+            d[i] = np.inf
+            p = w.players[i]
+            rows.append({"time": round(float(ref.game_time), 2), "player": i, "side": str(p.side.value),
+                         "type": p.robot_type, "activity": recent[i][0], "after_getup": "getup" in recent[i],
+                         "nearest_robot_m": round(float(d.min()), 2),
+                         "ball_m": round(float(np.hypot(*(ball - xy[i]))), 2)})
+    return rows
+
+
+def summary(rows: list[dict], players: dict[int, int], minutes: float) -> dict:
+    """Aggregate of one team's fall rows; `players` counts its players of each robot type
+    and `minutes` the minutes of play."""
+    n = len(rows)
+
+    def share(k: int) -> float:
+        return round(k / n, 2) if n else 0.0
+
+    by_type = Counter(r["type"] for r in rows)
+    return {
+        "falls": n,
+        "per_player_minute": {t: round(by_type[t] / (c * minutes), 3) for t, c in sorted(players.items())},
+        "activity": {a: share(k) for a, k in Counter(r["activity"] for r in rows).most_common()},
+        "near_robot": share(sum(r["nearest_robot_m"] < NEAR for r in rows)),
+        "after_getup": share(sum(r["after_getup"] for r in rows)),
+        "ball_within_1m": share(sum(r["ball_m"] < 1.0 for r in rows)),
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--home", default="villa", help="left team (cli.teams name)")
+    ap.add_argument("--away", default="villa", help="right team (cli.teams name)")
+    ap.add_argument("--seconds", type=float, default=300.0, help="seconds of play from the kickoff a game")
+    ap.add_argument("--seed", type=int, default=0, help="first game's seed")
+    ap.add_argument("--games", type=int, default=1)
+    args = ap.parse_args(argv)
+    if not 0 < args.seconds <= 300 or args.games < 1:
+        ap.error(f"--seconds must be in (0, 300] and --games >= 1 (got {args.seconds}, {args.games})")
+    try:
+        teams = {"L": factory(args.home), "R": factory(args.away)}
+    except UnknownTeam as e:
+        ap.error(str(e))
+    lineup = Lineup.default()
+    rows = []
+    for g in range(args.games):
+        m = Match(teams["L"], teams["R"], lineup, half_time=300, seed=args.seed + g,
+                  team_names=(args.home, args.away))
+        game = fall_rows(m, args.seconds)
+        print(json.dumps({"game": g, "seed": args.seed + g, "falls": len(game), "rows": game}))
+        rows += game
+    minutes = args.games * args.seconds / 60.0
+    out = {}
+    for side, name, types in (("L", args.home, lineup.left), ("R", args.away, lineup.right)):
+        out[side] = {"team": name, **summary([r for r in rows if r["side"] == side], Counter(types), minutes)}
+    print(json.dumps({"benchmark": "falls", "games": args.games, "seconds": args.seconds, "seed": args.seed,
+                      "teams": out, "machine": machine()}))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,49 @@
+"""benchmarks.falls: each counted fall is reported with the player's activity and its neighbours."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from benchmarks import falls
+from cli.teams import factory
+from models.scene import Lineup
+from server.match import Match
+
+
+class _Tripping(Match):
+    """A match in which the trainer lays two standing robots down 2 s after the kickoff:
+    L2 next to R2, and another of ours (`alone`) far from everyone."""
+
+    alone: int | None = None
+
+    def step(self):
+        super().step()
+        if self.referee.game_time == pytest.approx(2.0, abs=1e-6):
+            w, fallen = self.world, self.referee.fallen
+            self.alone = next(w.player("L", u) for u in range(3, 12) if not fallen[w.player("L", u)])
+            w.place_robot(w.player("R", 2), 1.0, 5.0, math.pi)
+            w.place_robot(w.player("L", 2), 1.4, 5.0, 0.0, lying="front")
+            w.place_robot(self.alone, -5.0, -7.0, 0.0, lying="back")
+
+
+def test_falls_are_reported_with_activity_and_neighbours():
+    m = _Tripping(factory("villa"), factory("villa"), Lineup.default(), half_time=300, seed=3)
+    rows = falls.fall_rows(m, 3.0)
+    laid = {r["player"]: r for r in rows if r["time"] == pytest.approx(2.0, abs=0.05)}
+    near, alone = laid[m.world.player("L", 2)], laid[m.alone]
+    assert near["nearest_robot_m"] < falls.NEAR <= alone["nearest_robot_m"]
+    assert near["activity"] in {"walkto", "stand", "kick", "dribble"} and not near["after_getup"]
+    s = falls.summary([r for r in rows if r["side"] == "L"], {0: 3, 1: 2, 2: 2, 3: 2, 4: 2}, 3.0 / 60)
+    assert s["falls"] >= 2 and 0 < s["near_robot"] < 1
+
+
+def test_cli(capsys):
+    assert falls.main(["--seconds", "0.5", "--away", "posture"]) == 0
+    *games, last = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert len(games) == 1 and last["teams"]["R"]["team"] == "posture"
+    with pytest.raises(SystemExit):
+        falls.main(["--seconds", "400"])
+    assert "--seconds must be in (0, 300]" in capsys.readouterr().err
