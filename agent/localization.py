@@ -147,7 +147,7 @@ class ParticleFilter:
         # Odometry not yet applied to the particles: the scaled steps composed in the torso
         # frame of the first of them (m, m, rad), and how many (see predict).
         self._pending, self._pending_steps = (0.0, 0.0, 0.0), 0
-        self._scratch_pose = np.zeros(3)
+        self._scratch_pose = np.zeros(3)  # the kernel moves a pose too: predict moved the estimate already
         self._spare = np.zeros((n_p, 3))  # the next resampling's output; then they swap
         self._c, self._s = np.empty(n_p), np.empty(n_p)  # particle heading cosines, sines
         self._ll, self._tmp = np.empty(n_p), np.empty(n_p)  # log-likelihoods, scratch
