@@ -12,8 +12,9 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
@@ -52,13 +53,14 @@ class Body:
     kick_box: the kicks' tolerance boxes (where the approach must stop) scaled by this;
     sprint_within: the bearing (deg) within which a far target is walked to with the
     "sprint" set, not "go_to_target" (None: never; `skills.navigate.sprints`);
-    walk_sets: the walk sets (default: the type's shipped ones)."""
+    walk_sets: the walk sets (default: the type's shipped ones); kick_params: keyframe kick
+    parameter files loaded after the shipped ones."""
 
     def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None,
-                 walk_sets: Mapping[str, WalkParams] | None = None) -> None:
+                 walk_sets: Mapping[str, WalkParams] | None = None, kick_params: Sequence[Path] = ()) -> None:
         self.robot_type = robot_type
         self.sprint_within = None if sprint_within is None else math.radians(sprint_within)
-        self.kicks = all_kicks(robot_type)
+        self.kicks = all_kicks(robot_type, keyframe_params=list(kick_params))
         if kick_box != 1.0:  # a wider box to stop in: fewer aligns, a less exact kick
             for k in self.kicks.values():
                 k.spec = replace(k.spec, tolerance=tuple(kick_box * t for t in k.spec.tolerance))

@@ -29,7 +29,7 @@ from formations.voting import VoteWindow
 from models import field as fld
 from models.messages import Action, Percept
 from models.rules import TEAM_SIZE, PlayMode
-from skills.walk import DATA as WALK_DATA
+from skills.walk import DATA as SKILL_DATA
 from skills.walk import WalkParams, default_param_files, load_walk_sets
 
 PM = PlayMode
@@ -50,19 +50,26 @@ KICKOFF_ANGLE = math.radians(44.0)  # the kickoff pass goes this far to the side
 KICKOFF_KICKS = ("ik_45_out_left", "ik_45_out_right")
 
 
-def _walk_sets(files: tuple[str, ...], robot_type: int) -> dict[str, WalkParams] | None:
-    """The walk sets of a robot type with a team's `walk_files` loaded after the shipped
-    ones (None: the shipped sets). A file named for each type ("{type}") that this type
-    lacks is skipped; any other missing file is an error."""
-    extra = []
+def _type_files(files: tuple[str, ...], robot_type: int) -> list[Path]:
+    """A team's extra parameter files for a robot type (paths, or names in skills/data):
+    a file named for each type ("{type}") that this type lacks is skipped; any other
+    missing file is an error."""
+    out = []
     for name in files:
         path = Path(name.format(type=robot_type))
         if not path.exists():
-            path = WALK_DATA / path
+            path = SKILL_DATA / path
         if path.exists():
-            extra.append(path)
+            out.append(path)
         elif "{type}" not in name:
-            raise FileNotFoundError(f"walk parameter file {name!r}: not found (nor in {WALK_DATA})")
+            raise FileNotFoundError(f"parameter file {name!r}: not found (nor in {SKILL_DATA})")
+    return out
+
+
+def _walk_sets(files: tuple[str, ...], robot_type: int) -> dict[str, WalkParams] | None:
+    """The walk sets of a robot type with a team's `walk_files` loaded after the shipped
+    ones (None: the shipped sets)."""
+    extra = _type_files(files, robot_type)
     return load_walk_sets(default_param_files(robot_type) + extra) if extra else None
 
 
@@ -85,7 +92,8 @@ class Player:
         self.world = WorldModel(side, unum, seed=seed)
         self.body = Body(robot_type, config.kick_box,
                          config.sprint_within if robot_type in config.sprint_types else None,
-                         _walk_sets(config.walk_files, robot_type))
+                         _walk_sets(config.walk_files, robot_type),
+                         _type_files(config.kick_files, robot_type))
         self.formation = _formation(config.formation)
         self.votes = VoteWindow(TEAM_SIZE)
         self.vote: tuple[int, ...] | None = None  # this player's own role mapping
