@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
@@ -27,6 +29,7 @@ from skills.dive import Dive as DiveSkill
 from skills.imu import TiltEstimator
 from skills.kicks import all_kicks
 from skills.navigate import sprints, walk_toward
+from skills.walk import WalkParams
 
 BEAM_SETTLE = 0.5  # s standing still after a beam
 STOP_DISTANCE = 0.08  # m from a WalkTo target where the robot stands
@@ -49,16 +52,19 @@ class Body:
 
     kick_box: the kicks' tolerance boxes (where the approach must stop) scaled by this;
     sprint_within: the bearing (deg) within which a far target is walked to with the
-    "sprint" set, not "go_to_target" (None: never; `skills.navigate.sprints`)."""
+    "sprint" set, not "go_to_target" (None: never; `skills.navigate.sprints`);
+    walk_sets: the walk sets (default: the type's shipped ones); kick_params: keyframe kick
+    parameter files loaded after the shipped ones."""
 
-    def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None) -> None:
+    def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None,
+                 walk_sets: Mapping[str, WalkParams] | None = None, kick_params: Sequence[Path] = ()) -> None:
         self.robot_type = robot_type
         self.sprint_within = None if sprint_within is None else math.radians(sprint_within)
-        self.kicks = all_kicks(robot_type)
+        self.kicks = all_kicks(robot_type, keyframe_params=list(kick_params))
         if kick_box != 1.0:  # a wider box to stop in: fewer aligns, a less exact kick
             for k in self.kicks.values():
                 k.spec = replace(k.spec, tolerance=tuple(kick_box * t for t in k.spec.tolerance))
-        self.kicker = Kicker(robot_type, self.kicks)
+        self.kicker = Kicker(robot_type, self.kicks, walk_sets)
         self.motion = self.kicker.motion
         self.tilt = TiltEstimator()
         self.head = HeadController()

@@ -29,6 +29,8 @@ from formations.voting import VoteWindow
 from models import field as fld
 from models.messages import Action, Percept
 from models.rules import TEAM_SIZE, PlayMode
+from skills.walk import DATA as SKILL_DATA
+from skills.walk import WalkParams, default_param_files, load_walk_sets
 
 PM = PlayMode
 BEAM_MODES = (PM.BEFORE_KICK_OFF, PM.GOAL_LEFT, PM.GOAL_RIGHT)
@@ -46,6 +48,29 @@ REPLAN_MOVE = 0.5  # m the ball moves before the on-ball player plans again
 DECIDE_PERIOD = 0.1  # s between team decisions (the body plays the last request between)
 KICKOFF_ANGLE = math.radians(44.0)  # the kickoff pass goes this far to the side (ik_45_out)
 KICKOFF_KICKS = ("ik_45_out_left", "ik_45_out_right")
+
+
+def _type_files(files: tuple[str, ...], robot_type: int) -> list[Path]:
+    """A team's extra parameter files for a robot type (paths, or names in skills/data):
+    a file named for each type ("{type}") that this type lacks is skipped; any other
+    missing file is an error."""
+    out = []
+    for name in files:
+        path = Path(name.format(type=robot_type))
+        if not path.exists():
+            path = SKILL_DATA / path
+        if path.exists():
+            out.append(path)
+        elif "{type}" not in name:
+            raise FileNotFoundError(f"parameter file {name!r}: not found (nor in {SKILL_DATA})")
+    return out
+
+
+def _walk_sets(files: tuple[str, ...], robot_type: int) -> dict[str, WalkParams] | None:
+    """The walk sets of a robot type with a team's `walk_files` loaded after the shipped
+    ones (None: the shipped sets)."""
+    extra = _type_files(files, robot_type)
+    return load_walk_sets(default_param_files(robot_type) + extra) if extra else None
 
 
 def _formation(name: str) -> Formation:
@@ -66,7 +91,9 @@ class Player:
         self.config = config
         self.world = WorldModel(side, unum, seed=seed)
         self.body = Body(robot_type, config.kick_box,
-                         config.sprint_within if robot_type in config.sprint_types else None)
+                         config.sprint_within if robot_type in config.sprint_types else None,
+                         _walk_sets(config.walk_files, robot_type),
+                         _type_files(config.kick_files, robot_type))
         self.formation = _formation(config.formation)
         self.votes = VoteWindow(TEAM_SIZE)
         self.vote: tuple[int, ...] | None = None  # this player's own role mapping

@@ -30,6 +30,10 @@ class TeamConfig:
     path_cost: bool = False  # role costs walk round the ball and the on-ball player (PtW 6)
     sprint_within: float | None = None  # deg: the sprint set toward a target this straight ahead (A.1.4) ...
     sprint_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # ... for these robot types
+    # Walk parameter files loaded after a type's shipped ones, "{type}" standing for the robot
+    # type (files in skills/data or paths; a type without its file keeps the shipped walk).
+    walk_files: tuple[str, ...] = ()
+    kick_files: tuple[str, ...] = ()  # likewise, keyframe kick parameter files
 
 
 VILLA = TeamConfig()
@@ -56,6 +60,11 @@ VARIANTS: dict[str, TeamConfig] = {
     # The sprint set toward targets within 15 deg; not type 2, whose sprint sets fall on the
     # sprint course (changing back to go-to-target): 12 of 16 runs with the shipped one.
     "Sprint": TeamConfig(sprint_within=15.0, sprint_types=(0, 1, 3, 4)),
+    # Go-to-target sets learned with the stand free on the course, zigzag and turns
+    # (issue 47; skills/data/walk_fast_type*.txt), for the types that have one, and the
+    # keyframe kicks' settings for that stand (kick_fast_type*.params).
+    "FastWalk": TeamConfig(walk_files=("walk_fast_type{type}.txt",),
+                           kick_files=("kick_fast_type{type}.params",)),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

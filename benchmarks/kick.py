@@ -23,6 +23,7 @@ Prints the machine, then one JSON line per kick, robot type and mode.
     python -m benchmarks.kick [--types 0] [--kicks kick_left ik_forward_left] [--tries 20]
                               [--modes standing walking] [--seed 0]
                               [--params FILE ...] [--approach-params FILE ...]
+                              [--walk-params FILE ...]
 
 `--params` loads keyframe kick parameter files after the shipped ones (e.g. the
 `best.txt` or `mean.txt` of a `long_kick` or `kick_distance` job), and
@@ -46,6 +47,7 @@ from benchmarks.stats import rate_ci
 from optimization.kick import kick_trial
 from skills.approach import ApproachParams
 from skills.kicks import KickSkill, all_kicks
+from skills.walk import default_param_files, load_walk_sets
 
 OUTCOMES = ("success", "timeout", "approach_fall", "kick_fall", "short")
 BUMP = 0.05  # m the ball may move (nudged, rocked) before the kick without counting as run into
@@ -63,14 +65,16 @@ def outcome(row: dict) -> str:
 
 
 def kick_stats(robot_type: int, kick: KickSkill, mode: str, tries: int, seed: int,
-               progress: tqdm | None = None, approach: ApproachParams | None = None) -> dict:
+               progress: tqdm | None = None, approach: ApproachParams | None = None,
+               walk_sets: dict | None = None) -> dict:
     """Aggregate of `tries` kicks (one JSON row); approach: the ball approach's parameters
-    (default: the type's shipped ones)."""
+    and walk_sets the walk's (default: the type's shipped ones)."""
     rng = np.random.default_rng([seed, robot_type, sum(map(ord, kick.spec.name)), len(mode)])
     rows = []
     wall = time.perf_counter()
     for i in range(tries):
-        rows.append(kick_trial(robot_type, kick, mode, rng, seed * 1000 + i, approach=approach))
+        rows.append(kick_trial(robot_type, kick, mode, rng, seed * 1000 + i, approach=approach,
+                               walk_sets=walk_sets))
         if progress is not None:
             progress.update()
     dist = np.array([r["distance"] for r in rows])
@@ -106,6 +110,8 @@ def main(argv: list[str] | None = None) -> int:
                          "(e.g. a CMA-ES best.txt)")
     ap.add_argument("--approach-params", nargs="+", default=[], metavar="FILE",
                     help="ball approach parameter files loaded after the shipped ones")
+    ap.add_argument("--walk-params", nargs="+", default=[], metavar="FILE",
+                    help="walk parameter files loaded after the shipped ones (as benchmarks.walk --params)")
     args = ap.parse_args(argv)
     if args.tries < 1:
         ap.error(f"--tries must be at least 1, not {args.tries}")
@@ -114,18 +120,19 @@ def main(argv: list[str] | None = None) -> int:
         try:  # a bad file fails here, with file:line
             kicks = all_kicks(t, keyframe_params=args.params)
             approach = ApproachParams.load(args.approach_params, robot_type=t)
+            walk = load_walk_sets(default_param_files(t) + args.walk_params) if args.walk_params else None
         except (OSError, ValueError) as err:
             ap.error(str(err))
         names = args.kicks or list(kicks)
         unknown = [n for n in names if n not in kicks]
         if unknown:
             ap.error(f"unknown kick(s) {', '.join(unknown)}; known: {', '.join(kicks)}")
-        jobs += [(t, kicks[n], m, approach) for n in names for m in args.modes]
-    files = {"params": args.params, "approach_params": args.approach_params}
+        jobs += [(t, kicks[n], m, approach, walk) for n in names for m in args.modes]
+    files = {"params": args.params, "approach_params": args.approach_params, "walk_params": args.walk_params}
     print(json.dumps({"machine": machine()}), flush=True)
     with tqdm(total=len(jobs) * args.tries, desc="kicks", unit="kick", file=sys.stderr) as bar:
-        for t, kick, mode, approach in jobs:
-            row = kick_stats(t, kick, mode, args.tries, args.seed, bar, approach)
+        for t, kick, mode, approach, walk in jobs:
+            row = kick_stats(t, kick, mode, args.tries, args.seed, bar, approach, walk)
             print(json.dumps({**row, **files}), flush=True)
     return 0
 

@@ -55,6 +55,7 @@ from benchmarks.machine import machine
 from benchmarks.stats import rate_ci
 from models.geometry import wrap
 from models.messages import Action
+from optimization.phases import ZIGZAG_HALF, ZIGZAG_TURN
 from optimization.robot import new_robot as standing_robot
 from server.trainer import Trainer
 from skills.motion import Motion
@@ -74,12 +75,6 @@ FALL_MOTIONS = tuple(f"{m}{t}" for m in ("in place", "speeding up", "steady", "s
                      for t in ("", ", turning")) + ("getup",)
 
 
-# Zigzag: full forward input, the turn input swinging between +0.4 and -0.4 every
-# second. On the course the falls come mostly while walking and turning, and this
-# stresses that alone: type 3 fell in 10 of 20 twelve-second runs, walking straight
-# ahead in 3 of 20 twenty-second ones.
-ZIGZAG_TURN = 0.4
-ZIGZAG_HALF = 1.0  # s
 ZIGZAG_SECONDS = 12.0
 
 PARAMS: list[str] = []  # walk parameter files loaded after the shipped ones (--params)

@@ -50,6 +50,16 @@ whole match, `--seconds 60 --repeats 10 --clock cpu`, quiet machine: 2.16x real 
 (sensors and hearing 9.0, vision 3.3, effectors 2.4, referee 1.6; hearing alone went
 481 -> 82 us a cycle); `benchmarks.team --only villa --games 2 --workers 2`: 2.14x and
 2.15x, agents 262 us mean and 886 us p99 (wall).
+
+Where a physics step goes (MuJoCo's own timers, villa against villa 30 s into a match, 22
+robots, nv 630, 62 contacts, 246 constraint rows in 23 islands; December 2026): 566 us a
+step, of which the constraint solver 261 (Newton, 1.28 iterations on average), positions
+198 (collision 64, kinematics 58, making the constraints 44, inertia 32), the integrator
+51, velocities 31, actuation 10. Other solver settings, timed on the same saved state: CG
+731 us, PGS 732, dense Jacobians 902, islands off 584, tolerance 1e-5 559, at most 5
+iterations 556, Euler damping off 552. None buys the quarter the bare box scene suggests;
+the Newton solver on islands is already the fastest, and the rest is the contacts and
+bodies themselves.
 """
 
 from __future__ import annotations

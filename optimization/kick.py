@@ -74,6 +74,7 @@ from skills.kicks.keyframe import (
 from skills.kicks.keyframe import default_param_files as kick_param_files
 from skills.params import UNITS
 from skills.skill import read_skills, skill_path
+from skills.walk import WalkParams
 
 if TYPE_CHECKING:
     from server.world import World
@@ -91,10 +92,12 @@ MODES = ("standing", "walking")
 def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Generator,
                seed: int, approach: ApproachParams | None = None,
                observe: Callable[[World], None] | None = None,
-               spread: tuple[float, float] = (0.01, 2.0)) -> dict:
+               spread: tuple[float, float] = (0.01, 2.0),
+               walk_sets: Mapping[str, WalkParams] | None = None) -> dict:
     """One kick (`mode` "standing" or "walking"); its measurements (m, deg, s; ground truth).
 
     approach: the ball approach's parameters (default: the type's shipped ones);
+    walk_sets: the walk's sets (default: the type's shipped ones);
     observe: called with the world after every cycle (measurements of a benchmark);
     spread: standing, the standard deviations of the robot's placement about the
     kick pose (m on x and y, deg on the heading)."""
@@ -104,7 +107,7 @@ def kick_trial(robot_type: int, kick: KickSkill, mode: str, rng: np.random.Gener
     w = tr.world
     ball = np.array(BALL)
     w.place_ball(ball)
-    kicker = Kicker(robot_type, {kick.spec.name: kick}, approach=approach)
+    kicker = Kicker(robot_type, {kick.spec.name: kick}, walk_sets, approach=approach)
     if mode == "standing":
         target_dir = kick.spec.direction
         target = ball + 10.0 * np.array([math.cos(target_dir), math.sin(target_dir)])

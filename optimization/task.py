@@ -58,6 +58,8 @@ from optimization.kick import approach, kick_distance, kick_walking, long_kick
 from optimization.paramvec import ANALYTIC_NAMES, param_set
 from optimization.phases import (
     FALL_PENALTY,
+    ZIGZAG_HALF,
+    ZIGZAG_TURN,
     GetupRecovery,
     MovePhase,
     Recovery,
@@ -181,10 +183,39 @@ class PhaseTask:
                                      "mirror": mirror, "set_cycles": dict(sim.agent.set_cycles)})
 
 
+def zigzag_phases(seconds: float) -> tuple:
+    """`seconds` (whole ZIGZAG_HALF periods) of full forward input with the turn input
+    swinging between +ZIGZAG_TURN and -ZIGZAG_TURN, from a 0.5 s stand: one phase a swing."""
+    swings = round(seconds / ZIGZAG_HALF)
+    return (StopPhase(0.5),) + tuple(MovePhase(1.0, 0.0, ZIGZAG_TURN * (-1) ** k, ZIGZAG_HALF)
+                                     for k in range(swings))
+
+
+def turn_phases(seconds: float) -> tuple:
+    """Turning in place at the full turn input, `seconds` / 2 each way, from a 0.5 s stand."""
+    return (StopPhase(0.5), MovePhase(0.0, 0.0, 1.0, seconds / 2), MovePhase(0.0, 0.0, -1.0, seconds / 2))
+
+
+def step_phases(seconds: float) -> tuple:
+    """Walking backward for `seconds`, then sideways `seconds` / 2 each way, each from a
+    0.5 s stand; utility: the distance (m) made in the walked direction."""
+    half = seconds / 2
+    return (StopPhase(0.5), MovePhase(-1.0, 0.0, 0.0, seconds, direction=math.pi),
+            StopPhase(0.5), MovePhase(0.0, 1.0, 0.0, half, direction=math.pi / 2),
+            StopPhase(0.5), MovePhase(0.0, -1.0, 0.0, half, direction=-math.pi / 2))
+
+
 def go_to_target(robot_type: int = 0, scale_time: float = 1.0, recovery: str = "trainer",
-                 fall_penalty: float = FALL_PENALTY) -> PhaseTask:
-    return PhaseTask("go_to_target", course_phases(GO_TO_TARGET_COURSE, scale_time), robot_type,
-                     recovery=recovery, fall_penalty=fall_penalty)
+                 fall_penalty: float = FALL_PENALTY, zigzag: float = 0.0, turn: float = 0.0,
+                 steps: float = 0.0) -> PhaseTask:
+    """The course; then, each if > 0: `zigzag` seconds of zigzag (the walk benchmark's
+    stress of walking while turning), `turn` seconds of turning in place (scored by its
+    falls alone) and `steps` seconds of walking backward and as many sideways."""
+    if min(zigzag, turn, steps) < 0:
+        raise ValueError(f"zigzag, turn and steps must not be negative, not {zigzag}, {turn}, {steps}")
+    phases = (course_phases(GO_TO_TARGET_COURSE, scale_time) + (zigzag_phases(zigzag) if zigzag else ())
+              + (turn_phases(turn) if turn else ()) + (step_phases(steps) if steps else ()))
+    return PhaseTask("go_to_target", phases, robot_type, recovery=recovery, fall_penalty=fall_penalty)
 
 
 def sprint(robot_type: int = 0, scale_time: float = 1.0, recovery: str = "trainer",

@@ -161,3 +161,26 @@ def test_every_variant_builds_and_plays_a_moment(name):
     result = match.run().to_dict()
     assert not [e for e in result["events"] if e["kind"] == "agent_crashed"]
     assert result["game_time"] >= 1.0
+
+
+def test_walk_files_load_after_the_shipped_walk_for_the_types_that_have_one(tmp_path):
+    from agent.player import Player
+    from agent.teamconfig import TeamConfig
+
+    (tmp_path / "fast_type1.txt").write_text("max_step_size_x\t71.5\nsprint_walk_height\t190\n")
+    config = TeamConfig(walk_files=(str(tmp_path / "fast_type{type}.txt"),))
+    shipped = Player("L", 2, 1).body.motion.walk.sets
+    sets = Player("L", 2, 1, config=config).body.motion.walk.sets
+    assert sets["go_to_target"].max_step_size_x == pytest.approx(0.0715)  # mm in the file
+    assert sets["sprint"].walk_height == pytest.approx(0.190)
+    assert sets["go_to_target"].walk_height == shipped["go_to_target"].walk_height
+    assert shipped["go_to_target"].max_step_size_x != pytest.approx(0.0715)
+    # type 2 has no such file: the shipped walk
+    other = Player("L", 3, 2, config=config).body.motion.walk.sets
+    assert other == Player("L", 3, 2).body.motion.walk.sets
+    with pytest.raises(FileNotFoundError, match="nowhere.txt"):
+        Player("L", 2, 1, config=TeamConfig(walk_files=("nowhere.txt",)))
+    (tmp_path / "slew_type1.params").write_text("kick_base_slew\t90\n")
+    kicks = Player("L", 2, 1, config=TeamConfig(kick_files=(str(tmp_path / "slew_type{type}.params"),))).body.kicks
+    assert kicks["kick_left"].base_slew == pytest.approx(math.radians(90.0))
+    assert Player("L", 2, 1).body.kicks["kick_left"].base_slew != pytest.approx(math.radians(90.0))

@@ -80,6 +80,30 @@ def test_go_to_target_course_is_about_30_seconds_and_sprint_uses_both_sets():
     assert r.info["set_cycles"].get("sprint", 0) > 0
 
 
+def test_go_to_target_stress_phases_swing_the_turn_turn_in_place_and_step_back_and_aside():
+    from optimization.phases import ZIGZAG_TURN, MovePhase
+    from optimization.task import step_phases, turn_phases, zigzag_phases
+
+    course = make_task("go_to_target")
+    task = make_task("go_to_target", zigzag=4, turn=2, steps=2)
+    added = task.phases[len(course.phases):]
+    assert task.seconds == pytest.approx(course.seconds + 4.5 + 2.5 + 5.5)
+    moves = [p for p in added if isinstance(p, MovePhase)]
+    assert [m.turn for m in moves[:4]] == [ZIGZAG_TURN, -ZIGZAG_TURN, ZIGZAG_TURN, -ZIGZAG_TURN]
+    with pytest.raises(ValueError, match="must not be negative"):
+        make_task("go_to_target", turn=-1)
+    # In physics, with type 1's shipped set: the zigzag goes forward, turning in place goes
+    # nowhere, the steps go back and aside (each phase's utility: metres in its direction).
+    # (Type 0's shipped set falls stepping right straight after stepping left.)
+    s = new_sim(1, walk_sets(load_values(["go_to_target"], 1)), (-6.0, 0.0, 0.0), np.random.default_rng(0))
+    res = run_phases(s, [*zigzag_phases(2), *turn_phases(2), *step_phases(2)], TrainerRecovery())
+    assert s.falls == 0
+    zig, turn, back, left, right = res[1:3], res[4:6], res[7], res[9], res[11]
+    assert sum(r.utility for r in zig) > 0.3
+    assert all(abs(r.utility) < 0.1 for r in turn)
+    assert 0.1 < back.utility and 0.05 < left.utility and 0.05 < right.utility
+
+
 def test_cmaes_improves_a_short_real_walk(tmp_path):
     task = make_task("walk_forward", seconds=1.5, stand=0.3)
     base = load_values(task.sets, 0)
