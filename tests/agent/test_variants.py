@@ -181,6 +181,7 @@ def test_walk_files_load_after_the_shipped_walk_for_the_types_that_have_one(tmp_
     with pytest.raises(FileNotFoundError, match="nowhere.txt"):
         Player("L", 2, 1, config=TeamConfig(walk_files=("nowhere.txt",)))
     (tmp_path / "slew_type1.params").write_text("kick_base_slew\t90\n")
-    kicks = Player("L", 2, 1, config=TeamConfig(kick_files=(str(tmp_path / "slew_type{type}.params"),))).body.kicks
+    slewing = TeamConfig(kick_files=(str(tmp_path / "slew_type{type}.params"),))
+    kicks = Player("L", 2, 1, config=slewing).body.kicks
     assert kicks["kick_left"].base_slew == pytest.approx(math.radians(90.0))
     assert Player("L", 2, 1).body.kicks["kick_left"].base_slew != pytest.approx(math.radians(90.0))
