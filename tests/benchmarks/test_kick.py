@@ -79,3 +79,17 @@ def test_a_bad_parameter_file_names_its_line(tmp_path, capsys):
         main(["--params", str(bad), "--tries", "1"])
     assert e.value.code == 2
     assert f"{bad}:2" in capsys.readouterr().err
+
+
+def test_a_bad_walk_file_names_its_line_and_a_good_one_is_in_the_row(tmp_path, capsys):
+    bad = tmp_path / "walk.txt"
+    bad.write_text("walk_height\t180\nmax_step_size_x\tabc\n")
+    with pytest.raises(SystemExit) as e:
+        main(["--walk-params", str(bad), "--tries", "1"])
+    assert e.value.code == 2
+    assert f"{bad}:2" in capsys.readouterr().err
+    good = tmp_path / "stand.txt"
+    good.write_text("walk_height\t185.5\n")
+    assert main(["--kicks", "ik_forward_left", "--modes", "standing", "--tries", "1",
+                 "--walk-params", str(good)]) == 0
+    assert json.loads(capsys.readouterr().out.splitlines()[-1])["walk_params"] == [str(good)]
