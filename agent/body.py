@@ -31,7 +31,7 @@ from skills.kicks import all_kicks
 from skills.navigate import sprints, walk_toward
 from skills.walk import WalkParams
 
-BEAM_SETTLE = 0.5  # s standing still after a beam
+BEAM_SETTLE = 0.5  # s standing still after a beam (blending into the stand: Motion.enter_stand)
 STOP_DISTANCE = 0.08  # m from a WalkTo target where the robot stands
 STOP_TURN = math.radians(12.0)  # rad of heading error left when it stands
 DRIBBLE_BEHIND = 0.25  # m behind the ball where a dribble lines up
@@ -132,7 +132,8 @@ class Body:
         if self._settle_until is None:
             self._settle_until = percept.time + BEAM_SETTLE
         if percept.time < self._settle_until:
-            return self._walk(percept, world, 0.0, 0.0, 0.0)
+            self.motion.skill_gains(None)
+            return self._look(self.motion.enter_stand(percept), percept, world)
         leaning = max(abs(self.tilt.pitch), abs(self.tilt.roll)) > LEAN
         if leaning or self._recovering or self.motion.recovering:
             v = self.motion.recover(percept)
@@ -208,7 +209,10 @@ class Body:
     def _walk(self, percept: Percept, world: WorldModel, x: float, y: float, turn: float,
               set_name: str = "go_to_target") -> np.ndarray:
         self.motion.skill_gains(None)
-        v = self.motion.walk_step(percept, x, y, turn, set_name)
+        return self._look(self.motion.walk_step(percept, x, y, turn, set_name), percept, world)
+
+    def _look(self, v: np.ndarray, percept: Percept, world: WorldModel) -> np.ndarray:
+        """`v` with the head's velocities: toward the ball, or scanning for it."""
         rel = world.ball_relative() if world.ball.valid else None
         bearing, dist = rel if rel is not None else (None, None)
         v[0:2] = self.head.velocities(percept.time, percept.joints, bearing, dist)

@@ -366,11 +366,7 @@ class Player:
         on the center spot, in our half; the on-ball role behind the ball at ours."""
         if self.unum == st.GOALIE:
             return st.GOALIE_LINE, 0.0, 0.0
-        role = st.FIELD_ROLES[(self.unum - 2) % len(st.FIELD_ROLES)]
-        if role == "onBall" and our_kickoff:
-            return -0.17, 0.0, 0.0
-        pos = st.role_positions(self.formation, np.zeros(2))[st.FIELD_ROLES.index(role)]
-        x, y = st.own_half(pos)
+        x, y = st.kickoff_positions(self.formation, our_kickoff)[(self.unum - 2) % len(st.FIELD_ROLES)]
         return float(x), float(y), math.atan2(-y, -x)  # facing the center spot
 
     def _listen(self, now: float) -> None:

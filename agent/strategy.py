@@ -38,6 +38,8 @@ PROXIMITY, COLLISION = 1.25, 0.5  # m, D.1.2 thresholds round other players
 FACE_BALL_WITHIN = 0.5  # m from a position: face the ball instead of the position (D.1.3)
 KEEP_AWAY = FREE_KICK_DISTANCE + 0.8  # m from the ball at the opponents' restarts
 GOALIE_LINE = -fld.HALF_LENGTH + 0.5  # m: the goalie's line in front of its goal (D.3.1)
+KICKOFF_TAKER = np.array([-0.17, 0.0])  # m: where the on-ball role stands at our kickoff
+KICKOFF_SPACING = 1.0  # m: least distance between two field players' kickoff positions
 OPPONENT_RADIUS_SQ = 25.0  # m^2: eq. D.1's opponent penalty reach
 MIN_SHOT_ANGLE = math.radians(8.0)  # rad: the goal mouth must look at least this wide to shoot
 
@@ -323,6 +325,21 @@ def own_half(target: np.ndarray, kickoff_taker: bool = False) -> np.ndarray:
     return p
 
 
+def kickoff_positions(formation: Formation, our_kickoff: bool) -> np.ndarray:
+    """(10, 2) kickoff positions of FIELD_ROLES (team frame, m): the formation for the ball
+    on the center spot, kept in our half and out of the center circle, the on-ball role
+    just behind the ball at our kickoff. A role that lands within KICKOFF_SPACING of an
+    earlier one stands that much farther back (at their kickoff the on-ball role and the
+    supporter were both pushed out of the circle to one spot, and fell over each other)."""
+    out: list[np.ndarray] = []
+    for i, p in enumerate(role_positions(formation, np.zeros(2))):
+        q = KICKOFF_TAKER.copy() if i == 0 and our_kickoff else own_half(p)
+        while any(math.hypot(*(q - o)) < KICKOFF_SPACING for o in out):
+            q[0] -= KICKOFF_SPACING
+        out.append(q)
+    return np.array(out)
+
+
 # ------------------------------------------------------------------- the ball
 
 def shot_target(ball: np.ndarray, opponents: np.ndarray, reach: float) -> np.ndarray | None:
@@ -462,6 +479,7 @@ def dive_for(ball: np.ndarray | None, velocity: np.ndarray, me: Sequence[float],
 __all__ = [
     "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "assign_roles", "avoid", "closeness",
     "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away", "kick_score",
-    "kick_scores", "on_ball_player", "opponent_near_ball", "own_half", "pass_target", "path_obstacles",
+    "kick_scores", "kickoff_positions", "on_ball_player", "opponent_near_ball", "own_half", "pass_target",
+    "path_obstacles",
     "role_obstacles", "role_positions", "shot_target", "walking_cost", "walking_costs",
 ]

@@ -26,6 +26,10 @@ HOLD_AFTER_GETUP = 1.0  # s the getup's last pose holds once the robot is up
 _EMPTY = np.zeros(0)  # joint_command's previous target or error when there is none
 SETTLE_AFTER_GETUP = 0.5  # s of the walk's stand after that, before the walk may go on
 GETUP_GAINS = (UT_KP, 0.0)  # joint kp (1/s) and feed-forward factor while a getup plays
+# s to blend from wherever the joints are into the walk's stand (`Motion.enter_stand`). Sent
+# straight to the stand from straight legs, each joint at its own top speed, type 2 (its faster
+# ankles) rocked back onto its heels and fell within 2.5 s.
+STAND_IN = 0.4
 
 
 class Motion:
@@ -48,6 +52,7 @@ class Motion:
         self._hold_until = -1.0
         self._getup_pose: np.ndarray | None = None
         self._saved_gains: tuple[np.ndarray, float] | None = None  # while a skill's gains are on
+        self._enter: tuple[float, np.ndarray] | None = None  # (s, joints) where enter_stand began
 
     def reset(self) -> None:
         """After a beam, a getup or anything that moved the body by other means."""
@@ -55,6 +60,7 @@ class Motion:
         self.pid.reset()
         self.tilt = TiltEstimator()
         self._prev_target = None
+        self._enter = None
 
     def sense(self, percept: Percept) -> tuple[float, float]:
         """Update the tilt estimate from the percept; returns (pitch, roll) in rad."""
@@ -93,6 +99,20 @@ class Motion:
             v = v + self.feedforward * ((target - prev) / CYCLE)
         # np.clip as minimum(maximum()): the same values without np.clip's Python layers.
         return np.minimum(np.maximum(v, -self.max_speed), self.max_speed)
+
+    def enter_stand(self, percept: Percept, duration: float = STAND_IN) -> np.ndarray:
+        """Joint velocities that take every joint together, linearly in time, from its angle at
+        the first call after `reset` to the walk's stand in `duration` s, then hold the stand
+        (head held). For a body moved by other means, such as a beam from straight legs."""
+        if self._enter is None:
+            self._enter = (percept.time, np.array(percept.joints, dtype=float))
+        t0, q0 = self._enter
+        share = min(1.0, (percept.time - t0 + CYCLE) / duration) if duration > 0.0 else 1.0
+        self.pid.kp[:] = self.walk.select("go_to_target").joint_kp
+        pitch, roll = self.sense(percept)
+        stand = self.last = self.walk.update(0.0, 0.0, 0.0, tilt=pitch, roll=roll, gyro=percept.gyro,
+                                             joints=percept.joints)
+        return self.command(q0 + share * (stand.targets - q0), percept)  # NaN (the head) stays NaN
 
     def recover(self, percept: Percept) -> np.ndarray | None:
         """Joint velocities of a getup while the robot is down (or getting up), else None.

@@ -45,6 +45,14 @@ def test_kickoff_positions_are_legal(unum, ours):
         assert math.cos(h - math.atan2(-y, -x)) > 0.99
 
 
+@pytest.mark.parametrize("ours", [True, False])
+def test_kickoff_positions_are_apart(ours):
+    xy = np.array([player(u).kickoff_position(ours)[:2] for u in range(1, 12)])
+    gaps = np.hypot(*(xy[:, None] - xy[None]).transpose(2, 0, 1))
+    np.fill_diagonal(gaps, np.inf)
+    assert gaps.min() >= st.KICKOFF_SPACING - 1e-9  # no two players beamed onto one spot
+
+
 def test_on_ball_player_kicks_when_free_and_dribbles_when_pressed():
     p = Player("L", 2, 0)
     free = p.decide(view(2, (-1.0, 0.0, 0.0), (0.0, 0.0)))

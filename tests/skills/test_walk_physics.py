@@ -105,3 +105,24 @@ def test_the_sprint_set_walks_forward_at_0_3_m_s(t):
                            set_name="sprint")
         good.append(not fell and tr.world.player_pose(0)[0] >= 3.0)  # from the start spot, x = 0
     assert sum(good) >= 2, good
+
+
+@pytest.mark.parametrize("t", range(5))
+def test_from_straight_legs_into_the_stand(t):
+    # As a match begins: beamed with straight legs (every joint 0), the robot blends into the
+    # walk's stand (Motion.enter_stand) and stands 3 s. Sent straight to the stand instead,
+    # each joint at its top speed, type 2 rocked back onto its heels and fell within 2.5 s.
+    tr, mo = new_robot(t)
+    tr.world.place_robot(0, 0.0, 0.0, 0.0, joints=np.zeros(len(mo.names)))
+    tr.world.settle_height(0)
+    mo.reset()
+    lowest = 1.0
+    for k in range(round(3.0 / 0.02)):
+        pc = tr.percepts()[0]
+        v = mo.enter_stand(pc) if k < round(0.5 / 0.02) else mo.walk_step(pc, 0.0, 0.0, 0.0)
+        tr.step({0: Action(v)})
+        lowest = min(lowest, float(tr.world.torso_up()[0]))
+    assert lowest > 0.98, lowest  # within 11 deg of upright throughout
+    stand = mo.walk.update(0.0, 0.0, 0.0).targets
+    legs = ~np.isnan(stand)
+    assert np.abs(tr.world.joint_angles(0)[legs] - stand[legs]).max() < 0.05  # in the stand
