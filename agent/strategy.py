@@ -315,11 +315,11 @@ def keep_away(target: np.ndarray, ball: np.ndarray, radius: float = KEEP_AWAY) -
     return ball + u * radius
 
 
-def own_half(target: np.ndarray, kickoff_taker: bool = False) -> np.ndarray:
+def own_half(target: np.ndarray) -> np.ndarray:
     """A position kept in our half and out of the center circle (kickoff rules)."""
     p = np.array([min(float(target[0]), -0.3), float(target[1])])
     r = fld.CENTER_CIRCLE_RADIUS + 0.6
-    if not kickoff_taker and math.hypot(*p) < r:
+    if math.hypot(*p) < r:
         n = float(np.hypot(*p))
         p = p / n * r if n > 1e-6 else np.array([-r, 0.0])
     return p
@@ -480,6 +480,5 @@ __all__ = [
     "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "assign_roles", "avoid", "closeness",
     "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away", "kick_score",
     "kick_scores", "kickoff_positions", "on_ball_player", "opponent_near_ball", "own_half", "pass_target",
-    "path_obstacles",
-    "role_obstacles", "role_positions", "shot_target", "walking_cost", "walking_costs",
+    "path_obstacles", "role_obstacles", "role_positions", "shot_target", "walking_cost", "walking_costs",
 ]
