@@ -139,19 +139,20 @@ class Player:
         w = self.world
         t = w.time
         mates = []
-        for u in range(1, TEAM_SIZE + 1):
-            o = w.teammate(u)
-            if u == self.unum or t - max(o.last_seen, o.last_heard) > MATE_MEMORY or not o.known:
+        isfinite = math.isfinite
+        for u, o in enumerate(w.teammates, 1):
+            if u == self.unum or t - max(o.last_seen, o.last_heard) > MATE_MEMORY:
                 continue
-            h = o.heading if math.isfinite(o.heading) else 0.0
             x, y = o.position[:2].tolist()
-            mates.append(st.Mate(u, x, y, h, o.fallen))
+            if isfinite(x):  # known
+                mates.append(st.Mate(u, x, y, o.heading if isfinite(o.heading) else 0.0, o.fallen))
         opps, fallen = [], []
-        for u in range(1, TEAM_SIZE + 1):
-            o = w.opponent(u)
-            if t - max(o.last_seen, o.last_heard) <= OPPONENT_MEMORY and o.known:
-                opps.append(o.position[:2].tolist())
-                fallen.append(o.fallen)
+        for o in w.opponents:
+            if t - max(o.last_seen, o.last_heard) <= OPPONENT_MEMORY:
+                xy = o.position[:2].tolist()
+                if isfinite(xy[0]):
+                    opps.append(xy)
+                    fallen.append(o.fallen)
         ball = None
         b = w.ball
         if w.ball_filter.initialized and t - max(b.last_seen, b.last_heard) < BALL_MEMORY:

@@ -111,14 +111,15 @@ class WorldModel:
         for u in range(1, TEAM_SIZE + 1):
             for ours in (True, False):
                 self.objects[player_key(ours, u)] = WorldObject(player_key(ours, u))
-        # The players' memories by uniform number (index 0 unused).
-        self._mates = [None] + [self.objects[player_key(True, u)] for u in range(1, TEAM_SIZE + 1)]
-        self._opponents = [None] + [self.objects[player_key(False, u)] for u in range(1, TEAM_SIZE + 1)]
+        # The players' memories, uniform number u at index u - 1 (this player's own included).
+        self.teammates = tuple(self.objects[player_key(True, u)] for u in range(1, TEAM_SIZE + 1))
+        self.opponents = tuple(self.objects[player_key(False, u)] for u in range(1, TEAM_SIZE + 1))
         # Other robots' memories by `_kernels.place_robots` slot: ours by uniform number, then
         # theirs (None for this player).
         self._robot_slots = [None if ours and u == unum else self.objects[player_key(ours, u)]
                              for ours in (True, False) for u in range(1, TEAM_SIZE + 1)]
         self._movable = [o for n, o in self.objects.items() if n not in self.landmark_positions]
+        self._seen_now: list[WorldObject] = []  # the objects whose currently_seen is set
         self.last_fixed_seen = -math.inf  # s, last vision frame with a landmark or line
         self.torso_height = 0.36  # m, re-estimated from landmarks and lines
         self.observation: Observation | None = None
@@ -151,10 +152,10 @@ class WorldModel:
         return self.objects["ball"]
 
     def teammate(self, unum: int) -> WorldObject:
-        return self._mates[unum] if 0 < unum <= TEAM_SIZE else self.objects[player_key(True, unum)]
+        return self.teammates[unum - 1] if 0 < unum <= TEAM_SIZE else self.objects[player_key(True, unum)]
 
     def opponent(self, unum: int) -> WorldObject:
-        return self._opponents[unum] if 0 < unum <= TEAM_SIZE else self.objects[player_key(False, unum)]
+        return self.opponents[unum - 1] if 0 < unum <= TEAM_SIZE else self.objects[player_key(False, unum)]
 
     def to_field(self, level_xyz: np.ndarray) -> np.ndarray:
         """Level-frame points (..., 3) relative to the torso -> team frame (m)."""
@@ -200,8 +201,9 @@ class WorldModel:
         if self.ball_filter.initialized:
             self.ball_filter.predict(dt)
         if percept.vision is not None:
-            for obj in self.objects.values():
+            for obj in self._seen_now:
                 obj.currently_seen = False
+            self._seen_now = []
             if not self.tilt.fallen:  # a falling or lying camera misleads more than it tells
                 self._see(percept)
         self._hear(percept)
@@ -227,15 +229,18 @@ class WorldModel:
         self.torso_height, *_, dist = seen[0, :5].tolist()
         t = percept.time
         v = percept.vision
+        seen_now = self._seen_now
         for name, pol in zip(v.landmark_names, v.landmarks):
             o = self.objects.get(name)
             if o is not None:
                 o.vision, o.last_seen, o.currently_seen = pol, t, True
+                seen_now.append(o)
         if obs.ball is not None:
             pos = seen[0, 1:4]
             self.ball_filter.update(pos[:2], BALL_SIGMA_NEAR + BALL_SIGMA_PER_M * dist, t)
             b = self.ball
             b.position, b.vision, b.last_seen, b.currently_seen, b.valid = pos, v.ball, t, True, True
+            seen_now.append(b)
         if len(obs.players):
             self._see_players(seen[1:], t)
         self._invalidate(obs)
@@ -258,10 +263,13 @@ class WorldModel:
             if hd == hd:  # not nan: a pair of parts gave the heading
                 o.heading = hd
             o.last_seen, o.currently_seen, o.valid = t, True, True
+            self._seen_now.append(o)
 
     def _invalidate(self, obs: Observation) -> None:
         """Mark unseen ball and robots whose remembered place is in view as not valid."""
-        movable = [o for o in self._movable if o.valid and not o.currently_seen and o.known]
+        # `o.known` spelled out (a position is NaN until known): this runs every vision frame
+        movable = [o for o in self._movable
+                   if o.valid and not o.currently_seen and math.isfinite(o.position[0])]
         if not movable:
             return
         x, y, h = self.pose.tolist()
