@@ -265,6 +265,8 @@ class Player:
             need = float(np.hypot(*(shot - ball)))
             names = tuple(n for n, k in self.body.kicks.items() if k.spec.distance >= need)
             return Kick((float(shot[0]), float(shot[1])), names)
+        if not cfg.passes and cfg.dribble and view.mode == PM.PLAY_ON:
+            return Dribble(tuple(st.dribble_target(view)))
         mates = np.array([(m.x, m.y) for m in view.mates]).reshape(-1, 2)
         target, dist = st.pass_target(ball, self.distances, view.opponents, mates)
         names = tuple(n for n, k in self.body.kicks.items() if abs(k.spec.distance - dist) < 0.15)

@@ -22,6 +22,7 @@ class TeamConfig:
     kicks: bool = True  # may kick
     dribble: bool = True  # may dribble
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
+    passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
     kick_anticipation: bool = True  # run to where a teammate's kick will land
     kick_box: float = 1.0  # the kicks' stopping boxes scaled by this (wider: quicker, less exact)
@@ -56,6 +57,7 @@ VARIANTS: dict[str, TeamConfig] = {
     "NoVoting": TeamConfig(voting=False),  # communication on, each follows its own mapping
     "DribbleOnly": TeamConfig(kicks=False),
     "KickOnly": TeamConfig(dribble=False),
+    "ShotsOnly": TeamConfig(passes=False),  # in play: kick at the goal when a shot is open, else dribble
     "WideBox": TeamConfig(kick_box=1.5),  # kicks start from a stance box 1.5x as wide: fewer aligns
     # The sprint set toward targets within 15 deg; not type 2, whose sprint sets fall on the
     # sprint course (changing back to go-to-target): 12 of 16 runs with the shipped one.

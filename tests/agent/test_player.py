@@ -12,6 +12,7 @@ import pytest
 from agent import strategy as st
 from agent.player import Player
 from agent.requests import Dive, Dribble, Kick, WalkTo
+from agent.teamconfig import variant
 from models import field as fld
 from models.rules import PlayMode
 
@@ -62,6 +63,16 @@ def test_on_ball_player_kicks_when_free_and_dribbles_when_pressed():
     assert all(abs(d - reach) < 0.2 for d in dists)  # kicks of the distance to the target
     pressed = Player("L", 2, 0).decide(view(2, (-1.0, 0.0, 0.0), (0.0, 0.0), opponents=[(1.0, 0.5)]))
     assert isinstance(pressed, Dribble)
+
+
+def test_shots_only_dribbles_where_the_team_would_pass_and_shoots_where_it_would_shoot():
+    shots_only = variant("ShotsOnly")
+    far = view(2, (-1.0, 0.0, 0.0), (0.0, 0.0))  # free, the goal out of reach: villa passes
+    assert isinstance(Player("L", 2, 0).decide(far), Kick)
+    assert isinstance(Player("L", 2, 0, config=shots_only).decide(far), Dribble)
+    near = view(2, (9.0, 0.0, 0.0), (10.0, 0.0))
+    req = Player("L", 2, 0, config=shots_only).decide(near)
+    assert isinstance(req, Kick) and req.target[0] > fld.HALF_LENGTH
 
 
 def test_a_shot_in_reach_uses_kicks_that_reach_the_goal():
