@@ -54,21 +54,29 @@ def test_kickoff_positions_are_apart(ours):
     assert gaps.min() >= st.KICKOFF_SPACING - 1e-9  # no two players beamed onto one spot
 
 
+def test_villa_dribbles_in_play_and_kicks_its_kickoff():
+    assert isinstance(Player("L", 2, 0).decide(view(2, (-1.0, 0.0, 0.0), (0.0, 0.0))), Dribble)
+    assert isinstance(Player("L", 2, 0).decide(view(2, (9.0, 0.0, 0.0), (10.0, 0.0))), Dribble)
+    kickoff = view(2, (-0.3, 0.0, 0.0), (0.0, 0.0), mode=PlayMode.KICK_OFF_LEFT, ours=True)
+    assert isinstance(Player("L", 2, 0).decide(kickoff), Kick)
+
+
 def test_on_ball_player_kicks_when_free_and_dribbles_when_pressed():
-    p = Player("L", 2, 0)
+    p = Player("L", 2, 0, config=variant("Kicks"))
     free = p.decide(view(2, (-1.0, 0.0, 0.0), (0.0, 0.0)))
     assert isinstance(free, Kick) and free.kicks
     dists = {round(p.body.kicks[n].spec.distance, 1) for n in free.kicks}
     reach = math.hypot(free.target[0], free.target[1])
     assert all(abs(d - reach) < 0.2 for d in dists)  # kicks of the distance to the target
-    pressed = Player("L", 2, 0).decide(view(2, (-1.0, 0.0, 0.0), (0.0, 0.0), opponents=[(1.0, 0.5)]))
+    pressed = Player("L", 2, 0, config=variant("Kicks")).decide(
+        view(2, (-1.0, 0.0, 0.0), (0.0, 0.0), opponents=[(1.0, 0.5)]))
     assert isinstance(pressed, Dribble)
 
 
 def test_shots_only_dribbles_where_the_team_would_pass_and_shoots_where_it_would_shoot():
     shots_only = variant("ShotsOnly")
     far = view(2, (-1.0, 0.0, 0.0), (0.0, 0.0))  # free, the goal out of reach: villa passes
-    assert isinstance(Player("L", 2, 0).decide(far), Kick)
+    assert isinstance(Player("L", 2, 0, config=variant("Kicks")).decide(far), Kick)
     assert isinstance(Player("L", 2, 0, config=shots_only).decide(far), Dribble)
     near = view(2, (9.0, 0.0, 0.0), (10.0, 0.0))
     req = Player("L", 2, 0, config=shots_only).decide(near)
@@ -76,7 +84,7 @@ def test_shots_only_dribbles_where_the_team_would_pass_and_shoots_where_it_would
 
 
 def test_a_shot_in_reach_uses_kicks_that_reach_the_goal():
-    p = Player("L", 2, 0)
+    p = Player("L", 2, 0, config=variant("Kicks"))
     req = p.decide(view(2, (9.0, 0.0, 0.0), (10.0, 0.0)))
     assert isinstance(req, Kick) and req.target[0] > fld.HALF_LENGTH
     assert all(p.body.kicks[n].spec.distance >= 5.4 for n in req.kicks)
