@@ -59,7 +59,7 @@ VARIANTS: dict[str, TeamConfig] = {
     "PositiveCombo": TeamConfig(formation="offensive.formation", path_cost=True, nearest_stopper=True),
     # not in the paper's table
     "NoVoting": TeamConfig(voting=False),  # communication on, each follows its own mapping
-    # The base team up to December 2026: kicks in play when no opponent is near the ball.
+    # The base team until December 5, 2026: kicks in play when no opponent is near the ball.
     "Kicks": TeamConfig(kicks=True),
     "DribbleOnly": TeamConfig(kicks=False),  # the base team since then
     "KickOnly": TeamConfig(kicks=True, dribble=False),
