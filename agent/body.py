@@ -54,11 +54,14 @@ class Body:
     sprint_within: the bearing (deg) within which a far target is walked to with the
     "sprint" set, not "go_to_target" (None: never; `skills.navigate.sprints`);
     walk_sets: the walk sets (default: the type's shipped ones); kick_params: keyframe kick
-    parameter files loaded after the shipped ones."""
+    parameter files loaded after the shipped ones; dribble_set: the walk set a dribble walks
+    through the ball with."""
 
     def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None,
-                 walk_sets: Mapping[str, WalkParams] | None = None, kick_params: Sequence[Path] = ()) -> None:
+                 walk_sets: Mapping[str, WalkParams] | None = None, kick_params: Sequence[Path] = (),
+                 dribble_set: str = "go_to_target") -> None:
         self.robot_type = robot_type
+        self.dribble_set = dribble_set
         self.sprint_within = None if sprint_within is None else math.radians(sprint_within)
         self.kicks = all_kicks(robot_type, keyframe_params=list(kick_params))
         if kick_box != 1.0:  # a wider box to stop in: fewer aligns, a less exact kick
@@ -66,6 +69,9 @@ class Body:
                 k.spec = replace(k.spec, tolerance=tuple(kick_box * t for t in k.spec.tolerance))
         self.kicker = Kicker(robot_type, self.kicks, walk_sets)
         self.motion = self.kicker.motion
+        if dribble_set not in self.motion.walk.sets:
+            sets = ", ".join(self.motion.walk.sets)
+            raise ValueError(f"unknown dribble walk set {dribble_set!r}; sets are {sets}")
         self.tilt = TiltEstimator()
         self.head = HeadController()
         self.kicking = False  # the kicker has the body
@@ -248,9 +254,9 @@ class Body:
         if (along < -0.05 and abs(across) < DRIBBLE_LANE and facing < DRIBBLE_FACING
                 and float(np.hypot(*(me - ball))) < DRIBBLE_REACH):
             aim = ball + 0.8 * u - 0.5 * across * np.array([-u[1], u[0]])
-            # through the ball at go-to-target speed: sprinting through it fell 4 times in 10
-            # tries (benchmarks.dribble --types 0 --variant Sprint)
-            return self._walk_to(percept, world, float(aim[0]), float(aim[1]), None, sprint=False)
+            # through the ball, never sprinting: sprinting through it fell 4 times in 10 tries
+            return self._walk_to(percept, world, float(aim[0]), float(aim[1]), None,
+                                 self.dribble_set, sprint=False)
         return self._line_up(percept, world, req.target, DRIBBLE_BEHIND)
 
     def _line_up(self, percept: Percept, world: WorldModel, target: tuple[float, float],

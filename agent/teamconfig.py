@@ -25,6 +25,7 @@ class TeamConfig:
     # (benchmarks/results/dribbleonly-vs-villa/).
     kicks: bool = False
     dribble: bool = True  # may dribble
+    dribble_set: str = "go_to_target"  # the walk set a dribble walks through the ball with
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
@@ -63,7 +64,9 @@ VARIANTS: dict[str, TeamConfig] = {
     "Kicks": TeamConfig(kicks=True),
     "DribbleOnly": TeamConfig(kicks=False),  # the base team since then
     "KickOnly": TeamConfig(kicks=True, dribble=False),
-    "ShotsOnly": TeamConfig(kicks=True, passes=False),  # in play: a shot when one is open, else dribble
+    # In play: a shot when one is open, else dribble. Against villa -0.10 +- 0.22 over 40 full
+    # games (benchmarks/results/shotsonly-vs-villa/).
+    "ShotsOnly": TeamConfig(kicks=True, passes=False),
     "WideBox": TeamConfig(kick_box=1.5),  # kicks start from a stance box 1.5x as wide: fewer aligns
     # The sprint set toward targets within 15 deg; not type 2, whose sprint sets fall on the
     # sprint course (changing back to go-to-target): 12 of 16 runs with the shipped one.
@@ -73,6 +76,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # keyframe kicks' settings for that stand (kick_fast_type*.params).
     "FastWalk": TeamConfig(walk_files=("walk_fast_type{type}.txt",),
                            kick_files=("kick_fast_type{type}.params",)),
+    # Walks through the ball with a position-to-dribble set learned for a dribble that keeps
+    # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).
+    "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",)),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

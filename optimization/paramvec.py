@@ -112,6 +112,17 @@ def param_set(name: str) -> ParamSetDef:
         raise KeyError(f"unknown parameter set {name!r}; sets are {', '.join(PARAM_SETS)}") from None
 
 
+def walk_sets(values: Values) -> dict[str, WalkParams]:
+    """WalkParams (SI) for every walk set, from values in file units; sets missing
+    from `values` take go-to-target's."""
+    base = WalkParams.from_values(param_set("go_to_target").to_si(values["go_to_target"]))
+    out = {}
+    for name in WALK_SETS:
+        out[name] = (WalkParams.from_values(param_set(name).to_si(values[name]), base)
+                     if name in values and name != "go_to_target" else base)
+    return out
+
+
 def load_values(set_names: Iterable[str], robot_type: int, files: Sequence[PathLike] = ()) -> Values:
     """Values (file units) of the named sets: their shipped defaults for the robot type,
     then `files` in order (later override earlier). A name in `files` that belongs to

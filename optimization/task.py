@@ -22,6 +22,9 @@ Registered tasks (`TASKS`, built by `make_task(name, robot_type, **options)`):
   varied starts around it, seeing it only through vision percepts; learns the
   position-to-dribble set with go-to-target and sprint frozen
   (`optimization.dribble`).
+* ``dribble_walk`` (``seconds``, ``away_cost``): the team's own dribble (the body
+  walks through the ball) for 20 s; learns the position-to-dribble set for a
+  dribble that keeps the ball within 1 m (`optimization.dribble_walk`).
 * ``getup_front``, ``getup_back`` (A, L1,1 / L1,2): lying on the front or back,
   get up from percepts; fitness -(time not standing) over 4 s (`optimization.getup`).
 * ``sphere``, ``rosenbrock``: shifted analytic functions of ``dim``
@@ -53,9 +56,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from optimization.dribble_walk import dribble_walk
 from optimization.getup import getup_back, getup_front
 from optimization.kick import approach, kick_distance, kick_walking, long_kick
-from optimization.paramvec import ANALYTIC_NAMES, param_set
+from optimization.paramvec import ANALYTIC_NAMES, walk_sets
 from optimization.phases import (
     FALL_PENALTY,
     ZIGZAG_HALF,
@@ -70,19 +74,6 @@ from optimization.phases import (
     run_phases,
 )
 from optimization.types import Task, TrialResult, Values
-from skills.walk import WALK_SETS, WalkParams
-
-
-def walk_sets(values: Values) -> dict[str, WalkParams]:
-    """WalkParams (SI) for every walk set, from values in file units; sets missing
-    from `values` take go-to-target's."""
-    base = WalkParams.from_values(param_set("go_to_target").to_si(values["go_to_target"]))
-    out = {}
-    for name in WALK_SETS:
-        out[name] = (WalkParams.from_values(param_set(name).to_si(values[name]), base)
-                     if name in values and name != "go_to_target" else base)
-    return out
-
 
 RECOVERIES = ("trainer", "getup")
 
@@ -346,6 +337,7 @@ TASKS: dict[str, Callable[..., Task]] = {
     "long_kick": long_kick,
     "kick_walking": kick_walking,
     "approach": approach,  # the ball approach, kick frozen
+    "dribble_walk": dribble_walk,  # optimization.dribble_walk
     "sphere": _analytic("sphere"),
     "rosenbrock": _analytic("rosenbrock"),
 }
