@@ -72,14 +72,14 @@ class DribbleRun:
 
 def dribble_run(robot_type: int, rng: np.random.Generator, seed: int, distance: float = 10.0,
                 start: float = 0.5, spread: float = 30.0, limit: float = 60.0,
-                config: TeamConfig = VILLA, walk_sets: Mapping[str, WalkParams] | None = None) -> DribbleRun:
-    """Dribble `distance` m within `limit` s; `walk_sets` replace the body's sets of those
+                config: TeamConfig = VILLA, sets: Mapping[str, WalkParams] | None = None) -> DribbleRun:
+    """Dribble `distance` m within `limit` s; `sets` replace the body's walk sets of those
     names (the optimization's candidates)."""
 
     def dribbler(side: str, unum: int, t: int, s: int) -> Dribbler:
         p = Dribbler(side, unum, t, s, config)
-        if walk_sets:
-            p.body.motion.walk.sets.update(walk_sets)
+        if sets:
+            p.body.motion.walk.sets.update(sets)
         return p
 
     m = Match(dribbler, PostureAgent, Lineup((robot_type,), (0,)), half_time=10 * limit, seed=seed)
@@ -159,7 +159,7 @@ class DribbleWalkTask:
         learned = {"position_to_dribble": walk_sets(values)["position_to_dribble"]}
         rng = np.random.default_rng(seed)
         r = dribble_run(self.robot_type, rng, seed, limit=self.seconds, spread=self.spread,
-                        config=DRIBBLE_SET_TEAM, walk_sets=learned)
+                        config=DRIBBLE_SET_TEAM, sets=learned)
         fitness = r.progress - self.away_cost * r.away - FALL_PENALTY * r.falls
         return TrialResult(float(fitness), {"falls": r.falls, "progress": round(r.progress, 3),
                                             "away_s": round(r.away, 2), "gap": round(r.gap, 2),
