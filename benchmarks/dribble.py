@@ -1,15 +1,10 @@
 """Dribbling: the team's walk through the ball, timed over 10 m (issue 47's dribble goal).
 
-Per robot type, `--tries` seeded trials, each a match in PlayOn of one villa
-player (`agent.player`, percepts only) and one posture robot standing in a
-corner: the ball lies at (-6, 0) plus a little noise, the target 10 m away in a
-direction within +-`--spread` deg of the field's +x, and the player starts
-`--start` m behind the ball, facing the target, and stands until its world
-model has the ball within 0.2 m (untimed: it still believes the kickoff's ball
-at the center). Its decision layer is replaced by
-one request, `Dribble(target)`, so the body's own dribble
-(`agent.body.Body._dribble`: line up behind the ball, walk through it, line up
-again when it gets away) is what is measured. Ground truth decides:
+Per robot type, `--tries` seeded runs of `optimization.dribble_walk.dribble_run`
+(one villa player, percepts only, asked for one `Dribble(target)` from `--start` m
+behind the ball, the target 10 m away within +-`--spread` deg of the field's +x), so
+the body's own dribble (`agent.body.Body._dribble`: line up behind the ball, walk
+through it, line up again when it gets away) is what is measured. Ground truth decides:
 
 * done: the ball's progress along the target line reached `--distance` m
   (default 10) within `--limit` s;
