@@ -42,6 +42,12 @@ KICKOFF_TAKER = np.array([-0.17, 0.0])  # m: where the on-ball role stands at ou
 KICKOFF_SPACING = 1.0  # m: least distance between two field players' kickoff positions
 OPPONENT_RADIUS_SQ = 25.0  # m^2: eq. D.1's opponent penalty reach
 MIN_SHOT_ANGLE = math.radians(8.0)  # rad: the goal mouth must look at least this wide to shoot
+# A dribble cone (`approach_target`): the share of the angle between the goal's line and the
+# player's approach that the dribble turns, the distance to a turned target (m) and the
+# distances from the opponents' goal (m) over which the turn fades out.
+CONE_SHARE = 0.6
+CONE_AHEAD = 2.0
+CONE_FADE = (2.0, 5.0)
 
 
 @dataclass(frozen=True)
@@ -436,11 +442,6 @@ def dribble_target(view: TeamView, cone: float = 0.0) -> np.ndarray:
         if gap > best_gap + 0.3:
             best, best_gap = t, gap
     return approach_target(ball, best, view.pose, cone) if cone > 0.0 else best
-
-
-CONE_FADE = (2.0, 5.0)  # m from the goal: no turn nearer than the first, the whole cone beyond the second
-CONE_AHEAD = 2.0  # m from the ball to a turned target
-CONE_SHARE = 0.6  # of the angle between the goal's line and the approach, turned (at most the cone)
 
 
 def approach_target(ball: np.ndarray, goal: np.ndarray, me: Sequence[float], cone: float) -> np.ndarray:
