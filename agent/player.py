@@ -258,7 +258,7 @@ class Player:
         cfg = self.config
         dribble = cfg.dribble and (not cfg.kicks or st.opponent_near_ball(view, cfg.dribble_near))
         if dribble and view.mode == PM.PLAY_ON:
-            return Dribble(tuple(st.dribble_target(view)))
+            return Dribble(tuple(st.dribble_target(view, cfg.dribble_cone)))
         reach = max(self.distances)
         shot = st.shot_target(ball, view.opponents, reach)
         if shot is not None:
@@ -266,7 +266,7 @@ class Player:
             names = tuple(n for n, k in self.body.kicks.items() if k.spec.distance >= need)
             return Kick((float(shot[0]), float(shot[1])), names)
         if not cfg.passes and cfg.dribble and view.mode == PM.PLAY_ON:
-            return Dribble(tuple(st.dribble_target(view)))
+            return Dribble(tuple(st.dribble_target(view, cfg.dribble_cone)))
         mates = np.array([(m.x, m.y) for m in view.mates]).reshape(-1, 2)
         target, dist = st.pass_target(ball, self.distances, view.opponents, mates)
         names = tuple(n for n, k in self.body.kicks.items() if abs(k.spec.distance - dist) < 0.15)

@@ -42,6 +42,12 @@ KICKOFF_TAKER = np.array([-0.17, 0.0])  # m: where the on-ball role stands at ou
 KICKOFF_SPACING = 1.0  # m: least distance between two field players' kickoff positions
 OPPONENT_RADIUS_SQ = 25.0  # m^2: eq. D.1's opponent penalty reach
 MIN_SHOT_ANGLE = math.radians(8.0)  # rad: the goal mouth must look at least this wide to shoot
+# A dribble cone (`approach_target`): the share of the angle between the goal's line and the
+# player's approach that the dribble turns, the distance to a turned target (m) and the
+# distances from the opponents' goal (m) over which the turn fades out.
+CONE_SHARE = 0.6
+CONE_AHEAD = 2.0
+CONE_FADE = (2.0, 5.0)
 
 
 @dataclass(frozen=True)
@@ -424,9 +430,10 @@ def opponent_near_ball(view: TeamView, radius: float) -> bool:
     return bool(np.any((d < radius) & ~view.opponents_fallen))
 
 
-def dribble_target(view: TeamView) -> np.ndarray:
+def dribble_target(view: TeamView, cone: float = 0.0) -> np.ndarray:
     """Where to dribble: the goal's center, or across the box toward the far post when
-    an opponent stands on the line to it (a reflex, D.1.5)."""
+    an opponent stands on the line to it (a reflex, D.1.5). With `cone` (rad), the line
+    turns from there toward the one the player comes along (`approach_target`)."""
     ball = view.ball
     best, best_gap = OPP_GOAL, -math.inf
     for y in (0.0, 0.6, -0.6):
@@ -434,7 +441,30 @@ def dribble_target(view: TeamView) -> np.ndarray:
         gap = _clearance(ball, t, view.opponents)
         if gap > best_gap + 0.3:
             best, best_gap = t, gap
-    return best
+    return approach_target(ball, best, view.pose, cone) if cone > 0.0 else best
+
+
+def approach_target(ball: np.ndarray, goal: np.ndarray, me: Sequence[float], cone: float) -> np.ndarray:
+    """A dribble target (team frame, m) on the line from the ball toward `goal`, turned
+    toward the line from the player at `me` through the ball by CONE_SHARE of the angle
+    between them, at most `cone` rad: a player beside or ahead of the ball pushes it on
+    sooner instead of going round it, and a player dribbling on (its approach is its last
+    push) steers back toward the goal plan by plan. The turn fades out over CONE_FADE near
+    the opponents' goal; `goal` itself when the turned line would leave the field within
+    CONE_AHEAD m."""
+    b = np.asarray(ball, dtype=float)
+    gx, gy = float(goal[0] - b[0]), float(goal[1] - b[1])
+    ax, ay = float(b[0] - me[0]), float(b[1] - me[1])
+    if math.hypot(ax, ay) < 1e-3:
+        return np.asarray(goal, dtype=float)
+    near, far = CONE_FADE
+    limit = cone * min(max((float(np.hypot(*(OPP_GOAL - b))) - near) / (far - near), 0.0), 1.0)
+    heading = math.atan2(gy, gx)
+    turn = min(max(CONE_SHARE * wrap(math.atan2(ay, ax) - heading), -limit), limit)
+    t = b + CONE_AHEAD * np.array([math.cos(heading + turn), math.sin(heading + turn)])
+    if abs(t[0]) > fld.HALF_LENGTH - 0.3 or abs(t[1]) > fld.HALF_WIDTH - 0.3:
+        return np.asarray(goal, dtype=float)
+    return t
 
 
 # ------------------------------------------------------------------------ goalie
@@ -477,8 +507,9 @@ def dive_for(ball: np.ndarray | None, velocity: np.ndarray, me: Sequence[float],
 
 
 __all__ = [
-    "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "assign_roles", "avoid", "closeness",
-    "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away", "kick_score",
-    "kick_scores", "kickoff_positions", "on_ball_player", "opponent_near_ball", "own_half", "pass_target",
-    "path_obstacles", "role_obstacles", "role_positions", "shot_target", "walking_cost", "walking_costs",
+    "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "approach_target", "assign_roles", "avoid",
+    "closeness", "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away",
+    "kick_score", "kick_scores", "kickoff_positions", "on_ball_player", "opponent_near_ball", "own_half",
+    "pass_target", "path_obstacles", "role_obstacles", "role_positions", "shot_target", "walking_cost",
+    "walking_costs",
 ]

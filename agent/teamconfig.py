@@ -6,6 +6,7 @@ turns them off one at a time). Distances in m, times in s.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 
@@ -26,6 +27,7 @@ class TeamConfig:
     kicks: bool = False
     dribble: bool = True  # may dribble
     dribble_set: str = "go_to_target"  # the walk set a dribble walks through the ball with
+    dribble_cone: float = 0.0  # rad a dribble in play may turn from the goal toward the approach
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
@@ -79,6 +81,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # Walks through the ball with a position-to-dribble set learned for a dribble that keeps
     # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).
     "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",)),
+    # In play the dribble turns up to 60 deg from the goal toward the side the player comes
+    # from, so that it need not go round the ball (issue 47: a quicker first touch).
+    "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0)),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

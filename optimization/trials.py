@@ -1,8 +1,9 @@
-"""Physics trials of single skills on the trainer, with ground truth: a goalie dive, a
-stance move (align), an IK kick, and the IK kick's backswing clearance (kinematics).
+"""Physics trials with ground truth: of single skills on the trainer (a goalie dive, a
+stance move (align), an IK kick, and the IK kick's backswing clearance (kinematics)),
+and of a villa player's first touch on a free ball in a match.
 
-The skill benchmarks (`benchmarks.dive`, `benchmarks.align`, `benchmarks.ikkick`) and
-the skills' physics tests run these same trials. Frames: the field frame of the
+The benchmarks (`benchmarks.dive`, `benchmarks.align`, `benchmarks.ikkick`,
+`benchmarks.firsttouch`) and the physics tests run these same trials. Frames: the field frame of the
 trainer's world; a kick's offsets in the robot frame at its start (m, rad).
 """
 
@@ -15,13 +16,18 @@ import mujoco
 import numpy as np
 
 from agent.kicker import SKILL_GAINS
+from agent.player import Player
+from agent.posture import PostureAgent
+from agent.teamconfig import TeamConfig
 from models import nao
 from models.field import BALL_RADIUS
 from models.geometry import Pose2, wrap
 from models.messages import Action
 from models.robot import robot_mjcf
+from models.rules import CYCLE, PlayMode
 from models.scene import Lineup
 from optimization.robot import new_robot
+from server.match import Match
 from server.trainer import Trainer
 from skills.align import Align
 from skills.dive import Dive
@@ -154,6 +160,7 @@ def align_errors(robot_type: int, tries: int, move: float, turn: float, seed: in
             "seconds_per_move": round(align.params.duration, 2)}
 
 
+TOUCH = 0.05  # m the ball moves for a first touch
 CLEARANCE_SAMPLES = 80  # samples of the backswing checked by `backswing_clearance`
 
 
@@ -249,3 +256,46 @@ def backswing_clearance(kick: IkKick, ball: tuple[float, float] | None = None) -
                 best, at = dist, float(s)
     kick.reset()
     return best, at
+
+
+@dataclass(frozen=True)
+class FirstTouch:
+    """A villa player's first touch on a free ball: s after play on (None: none), the
+    ball's progress toward the opponents' goal (m, +x of the field) and the falls."""
+
+    touch: float | None
+    progress: float
+    falls: int
+
+
+def first_touch(robot_type: int, config: TeamConfig, seed: int, ball: tuple[float, float], bearing: float,
+                distance: float, seconds: float = 12.0) -> FirstTouch:
+    """Play on with a free ball at `ball` (field frame, m) and the left team's player 2
+    (`robot_type`, playing `config`) standing `distance` m from it at `bearing` (rad, from
+    the ball), facing it: it does what the team does with a free ball, from its percepts.
+    Their goalie stands out of the way."""
+    def make(side: str, unum: int, t: int, s: int) -> Player:
+        return Player(side, unum, t, s, config)
+
+    m = Match(make, PostureAgent, Lineup((0, robot_type), (0,)), half_time=300, seed=seed)
+    for _ in range(60):  # the beams and the first settling
+        m.step()
+    w = m.world
+    b = np.array(ball, dtype=float)
+    x, y = b[0] + distance * math.cos(bearing), b[1] + distance * math.sin(bearing)
+    heading = wrap(bearing + math.pi)
+    i = w.player("L", 2)
+    w.place_robot(i, x, y, heading, joints=w.joint_angles(i))
+    w.settle_height(i)
+    agent = m.agents[i]
+    agent.world.beamed(x, y, heading)  # as after a beam: it knows where it stands
+    agent.body.beamed()
+    w.place_robot(w.player("R", 1), 14.5, 9.0, math.pi)
+    w.place_ball((float(b[0]), float(b[1])))
+    m.referee.set_play_mode(PlayMode.PLAY_ON)
+    touch = None
+    for k in range(round(seconds / CYCLE)):
+        m.step()
+        if touch is None and float(np.hypot(*(w.ball_position()[:2] - b))) > TOUCH:
+            touch = round((k + 1) * CYCLE, 6)
+    return FirstTouch(touch, float(w.ball_position()[0] - b[0]), int(m.referee.falls["L"]))

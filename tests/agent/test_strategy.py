@@ -157,6 +157,51 @@ def test_dribble_when_an_upright_opponent_is_near_the_ball():
     assert not st.opponent_near_ball(v, 1.0)
 
 
+def _heading(ball, target) -> float:
+    return math.atan2(target[1] - ball[1], target[0] - ball[0])
+
+
+def test_a_dribble_cone_turns_toward_the_approach_by_its_share_and_at_most_the_cone():
+    cone = math.radians(60.0)
+    ball = (0.0, 1.0)
+    goal = st.dribble_target(view(me=(-1.0, 1.0, 0.0), ball=ball))
+    assert np.array_equal(st.dribble_target(view(me=(0.0, 3.0, 0.0), ball=ball), 0.0), goal)
+    to_goal = _heading(ball, goal)
+    beside = st.dribble_target(view(me=(0.0, 3.0, 0.0), ball=ball), cone)  # coming down the field's -y
+    turn = wrap(_heading(ball, beside) - to_goal)
+    assert turn == pytest.approx(st.CONE_SHARE * wrap(-math.pi / 2 - to_goal), abs=1e-9)
+    ahead = st.dribble_target(view(me=(2.0, 1.0, 0.0), ball=ball), cone)  # between the ball and the goal
+    assert abs(wrap(_heading(ball, ahead) - to_goal)) == pytest.approx(cone, abs=1e-9)
+    assert math.hypot(ahead[0] - ball[0], ahead[1] - ball[1]) == pytest.approx(st.CONE_AHEAD)
+
+
+def test_a_dribble_cone_lies_between_the_goal_and_the_approach():
+    rng = np.random.default_rng(7)
+    cone = math.radians(60.0)
+    for _ in range(300):
+        ball = rng.uniform((-fld.HALF_LENGTH, -fld.HALF_WIDTH), (fld.HALF_LENGTH, fld.HALF_WIDTH))
+        me = ball + rng.uniform(-2.0, 2.0, 2)
+        goal = st.dribble_target(view(me=(*me, 0.0), ball=ball))
+        t = st.approach_target(ball, goal, me, cone)
+        turn = wrap(_heading(ball, t) - _heading(ball, goal))
+        approach = wrap(_heading(me, ball) - _heading(ball, goal))
+        assert abs(turn) <= cone + 1e-9 and abs(turn) <= abs(approach) + 1e-9
+        assert turn * approach >= 0.0  # toward the side the player comes from
+        inside = abs(t[0]) <= fld.HALF_LENGTH - 0.3 and abs(t[1]) <= fld.HALF_WIDTH - 0.3
+        assert inside or np.array_equal(t, goal)
+
+
+def test_a_dribble_cone_is_the_goal_near_the_goal_and_near_the_touch_line():
+    cone = math.radians(60.0)
+    near_goal = np.array([fld.HALF_LENGTH - 1.5, 0.5])
+    goal = st.dribble_target(view(ball=near_goal))
+    assert np.array_equal(st.approach_target(near_goal, goal, (near_goal[0], 2.5), cone), goal)
+    by_line = np.array([0.0, fld.HALF_WIDTH - 0.5])
+    goal = st.dribble_target(view(ball=by_line))
+    # coming from the field's middle, the turned line would cross the touch line
+    assert np.array_equal(st.approach_target(by_line, goal, (0.0, 0.0), cone), goal)
+
+
 def test_the_kickoff_taker_can_be_left_out():
     near = st.Mate(3, -2.0, 2.0, 0.0)
     v = view(me=(-0.2, 0.0, 0.0), ball=(1.5, 1.5), mates=(near,), unum=2)
