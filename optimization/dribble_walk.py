@@ -31,6 +31,7 @@ from models.rules import PlayMode
 from models.scene import Lineup
 from optimization.paramvec import walk_sets
 from optimization.phases import FALL_PENALTY
+from optimization.trials import place_player
 from optimization.types import TrialResult, Values
 from server.match import Match
 from skills.walk import WalkParams
@@ -91,10 +92,7 @@ def dribble_run(robot_type: int, rng: np.random.Generator, seed: int, distance: 
     u = np.array([math.cos(a), math.sin(a)])
     agent = m.agents[0]
     x, y = (ball - start * u).tolist()
-    w.place_robot(0, x, y, a, joints=w.joint_angles(0))
-    w.settle_height(0)
-    agent.world.beamed(x, y, a)  # as after a beam: it knows where it stands
-    agent.body.beamed()
+    place_player(m, 0, x, y, a)
     w.place_robot(1, 14.5, 9.0, math.pi)  # their goalie out of the way
     w.place_ball(tuple(ball))
     m.referee.set_play_mode(PlayMode.PLAY_ON)

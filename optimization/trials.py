@@ -258,6 +258,17 @@ def backswing_clearance(kick: IkKick, ball: tuple[float, float] | None = None) -
     return best, at
 
 
+def place_player(m: Match, i: int, x: float, y: float, heading: float) -> None:
+    """Trainer: stand match player i at (x, y) facing `heading` (field frame; m, rad) in
+    its current joint pose, its agent told as after a beam (it knows where it stands)."""
+    w = m.world
+    w.place_robot(i, x, y, heading, joints=w.joint_angles(i))
+    w.settle_height(i)
+    agent = m.agents[i]
+    agent.world.beamed(x, y, heading)
+    agent.body.beamed()
+
+
 @dataclass(frozen=True)
 class FirstTouch:
     """A villa player's first touch on a free ball: s after play on (None: none), the
@@ -283,13 +294,7 @@ def first_touch(robot_type: int, config: TeamConfig, seed: int, ball: tuple[floa
     w = m.world
     b = np.array(ball, dtype=float)
     x, y = b[0] + distance * math.cos(bearing), b[1] + distance * math.sin(bearing)
-    heading = wrap(bearing + math.pi)
-    i = w.player("L", 2)
-    w.place_robot(i, x, y, heading, joints=w.joint_angles(i))
-    w.settle_height(i)
-    agent = m.agents[i]
-    agent.world.beamed(x, y, heading)  # as after a beam: it knows where it stands
-    agent.body.beamed()
+    place_player(m, w.player("L", 2), x, y, wrap(bearing + math.pi))
     w.place_robot(w.player("R", 1), 14.5, 9.0, math.pi)
     w.place_ball((float(b[0]), float(b[1])))
     m.referee.set_play_mode(PlayMode.PLAY_ON)

@@ -14,18 +14,8 @@ from agent.requests import Dribble, Kick, WalkTo
 from agent.teamconfig import TeamConfig
 from models.rules import PlayMode
 from models.scene import Lineup
-from optimization.trials import first_touch
+from optimization.trials import first_touch, place_player
 from server.match import Match
-
-
-def place(m: Match, i: int, x: float, y: float, heading: float) -> None:
-    """Trainer: stand player i at (x, y) (field frame) in its current joint pose."""
-    w = m.world
-    w.place_robot(i, x, y, heading, joints=w.joint_angles(i))
-    w.settle_height(i)
-    agent = m.agents[i]
-    agent.world.beamed(x, y, heading)  # as after a beam: it knows where it stands
-    agent.body.beamed()
 
 
 @pytest.mark.parametrize("seed", [0, 1])
@@ -36,7 +26,7 @@ def test_on_ball_player_moves_the_ball_toward_the_goal(seed):
     w = m.world
     i = w.player("L", 2)
     ball = np.array([4.0, 1.0])
-    place(m, i, 2.6, 0.2, 0.3)
+    place_player(m, i, 2.6, 0.2, 0.3)
     w.place_robot(w.player("R", 1), 14.5, 9.0, math.pi)  # their goalie out of the way
     w.place_ball(tuple(ball))
     m.referee.set_play_mode(PlayMode.PLAY_ON)
@@ -70,7 +60,7 @@ def _walked(sprint_within: float | None, seconds: float = 8.0) -> tuple[float, i
     m = Match(factory, PostureAgent, Lineup((0,), (0,)), half_time=300, seed=4)
     for _ in range(60):
         m.step()
-    place(m, 0, -6.0, 0.0, 0.0)
+    place_player(m, 0, -6.0, 0.0, 0.0)
     m.world.place_robot(1, 14.5, 9.0, math.pi)  # out of the way
     m.agents[0].goal = (0.0, 0.0)
     m.referee.set_play_mode(PlayMode.PLAY_ON)
