@@ -16,9 +16,9 @@ import mujoco
 import numpy as np
 
 from agent.kicker import SKILL_GAINS
-from agent.player import Player
 from agent.posture import PostureAgent
 from agent.teamconfig import TeamConfig
+from agent.variants import VillaFactory
 from models import nao
 from models.field import BALL_RADIUS
 from models.geometry import Pose2, wrap
@@ -285,10 +285,7 @@ def first_touch(robot_type: int, config: TeamConfig, seed: int, ball: tuple[floa
     (`robot_type`, playing `config`) standing `distance` m from it at `bearing` (rad, from
     the ball), facing it: it does what the team does with a free ball, from its percepts.
     Their goalie stands out of the way."""
-    def make(side: str, unum: int, t: int, s: int) -> Player:
-        return Player(side, unum, t, s, config)
-
-    m = Match(make, PostureAgent, Lineup((0, robot_type), (0,)), half_time=300, seed=seed)
+    m = Match(VillaFactory(config), PostureAgent, Lineup((0, robot_type), (0,)), half_time=300, seed=seed)
     for _ in range(60):  # the beams and the first settling
         m.step()
     w = m.world
