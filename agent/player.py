@@ -257,8 +257,11 @@ class Player:
         ball = view.ball
         cfg = self.config
         dribble = cfg.dribble and (not cfg.kicks or st.opponent_near_ball(view, cfg.dribble_near))
+        near = cfg.dribble_cone_near
+        free = near is not None and not st.opponent_near_ball(view, near)
+        cone = 0.0 if free else cfg.dribble_cone  # free: straight at the goal
         if dribble and view.mode == PM.PLAY_ON:
-            return Dribble(tuple(st.dribble_target(view, cfg.dribble_cone)))
+            return Dribble(tuple(st.dribble_target(view, cone)))
         reach = max(self.distances)
         shot = st.shot_target(ball, view.opponents, reach)
         if shot is not None:
@@ -266,7 +269,7 @@ class Player:
             names = tuple(n for n, k in self.body.kicks.items() if k.spec.distance >= need)
             return Kick((float(shot[0]), float(shot[1])), names)
         if not cfg.passes and cfg.dribble and view.mode == PM.PLAY_ON:
-            return Dribble(tuple(st.dribble_target(view, cfg.dribble_cone)))
+            return Dribble(tuple(st.dribble_target(view, cone)))
         mates = np.array([(m.x, m.y) for m in view.mates]).reshape(-1, 2)
         target, dist = st.pass_target(ball, self.distances, view.opponents, mates)
         names = tuple(n for n, k in self.body.kicks.items() if abs(k.spec.distance - dist) < 0.15)
