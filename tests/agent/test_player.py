@@ -83,6 +83,19 @@ def test_shots_only_dribbles_where_the_team_would_pass_and_shoots_where_it_would
     assert isinstance(req, Kick) and req.target[0] > fld.HALF_LENGTH
 
 
+def test_dribble_cone_near_turns_only_when_an_opponent_is_near_the_ball():
+    beside = dict(unum=2, me=(-3.0, -1.5, 0.0), ball=(-3.0, 0.0))  # the player comes from the side
+    goal_line = st.dribble_target(view(**beside), 0.0)
+    cone = variant("DribbleConeNear")
+    free = Player("L", 2, 0, config=cone).decide(view(**beside, opponents=[(2.0, 3.0)]))
+    pressed = Player("L", 2, 0, config=cone).decide(view(**beside, opponents=[(-2.0, 0.8)]))
+    always = Player("L", 2, 0, config=variant("DribbleCone")).decide(view(**beside, opponents=[(2.0, 3.0)]))
+    assert isinstance(free, Dribble) and isinstance(pressed, Dribble)
+    assert np.allclose(free.target, goal_line)  # free: straight at the goal
+    for turned in (pressed.target, always.target):  # toward +y, the side the player comes along
+        assert turned[1] > 0.5 and math.hypot(turned[0] + 3.0, turned[1]) < 2.5
+
+
 def test_a_shot_in_reach_uses_kicks_that_reach_the_goal():
     p = Player("L", 2, 0, config=variant("Kicks"))
     req = p.decide(view(2, (9.0, 0.0, 0.0), (10.0, 0.0)))
