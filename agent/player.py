@@ -257,8 +257,8 @@ class Player:
         ball = view.ball
         cfg = self.config
         dribble = cfg.dribble and (not cfg.kicks or st.opponent_near_ball(view, cfg.dribble_near))
-        near = cfg.dribble_cone_near
-        free = near is not None and not st.opponent_near_ball(view, near)
+        lead = cfg.dribble_cone_lead
+        free = lead is not None and not st.opponent_may_reach_first(view, lead)
         cone = 0.0 if free else cfg.dribble_cone  # free: straight at the goal
         if dribble and view.mode == PM.PLAY_ON:
             return Dribble(tuple(st.dribble_target(view, cone)))

@@ -430,6 +430,15 @@ def opponent_near_ball(view: TeamView, radius: float) -> bool:
     return bool(np.any((d < radius) & ~view.opponents_fallen))
 
 
+def opponent_may_reach_first(view: TeamView, lead: float) -> bool:
+    """An upright opponent no farther from the ball than I am plus `lead` (m): a race."""
+    if view.ball is None or len(view.opponents) == 0:
+        return False
+    mine = float(np.hypot(view.pose[0] - view.ball[0], view.pose[1] - view.ball[1]))
+    d = np.hypot(*(view.opponents - view.ball).T)
+    return bool(np.any((d < mine + lead) & ~view.opponents_fallen))
+
+
 def dribble_target(view: TeamView, cone: float = 0.0) -> np.ndarray:
     """Where to dribble: the goal's center, or across the box toward the far post when
     an opponent stands on the line to it (a reflex, D.1.5). With `cone` (rad), the line
@@ -509,7 +518,8 @@ def dive_for(ball: np.ndarray | None, velocity: np.ndarray, me: Sequence[float],
 __all__ = [
     "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "approach_target", "assign_roles", "avoid",
     "closeness", "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away",
-    "kick_score", "kick_scores", "kickoff_positions", "on_ball_player", "opponent_near_ball", "own_half",
-    "pass_target", "path_obstacles", "role_obstacles", "role_positions", "shot_target", "walking_cost",
+    "kick_score", "kick_scores", "kickoff_positions", "on_ball_player", "opponent_may_reach_first",
+    "opponent_near_ball", "own_half", "pass_target", "path_obstacles", "role_obstacles", "role_positions",
+    "shot_target", "walking_cost",
     "walking_costs",
 ]

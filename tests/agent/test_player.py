@@ -83,16 +83,16 @@ def test_shots_only_dribbles_where_the_team_would_pass_and_shoots_where_it_would
     assert isinstance(req, Kick) and req.target[0] > fld.HALF_LENGTH
 
 
-def test_dribble_cone_near_turns_only_when_an_opponent_is_near_the_ball():
-    beside = dict(unum=2, me=(-3.0, -1.5, 0.0), ball=(-3.0, 0.0))  # the player comes from the side
+def test_dribble_cone_race_turns_only_when_an_opponent_may_reach_the_ball_first():
+    beside = dict(unum=2, me=(-3.0, -1.5, 0.0), ball=(-3.0, 0.0))  # 1.5 m from the ball, from the side
     goal_line = st.dribble_target(view(**beside), 0.0)
-    cone = variant("DribbleConeNear")
-    free = Player("L", 2, 0, config=cone).decide(view(**beside, opponents=[(2.0, 3.0)]))
-    pressed = Player("L", 2, 0, config=cone).decide(view(**beside, opponents=[(-2.0, 0.8)]))
-    always = Player("L", 2, 0, config=variant("DribbleCone")).decide(view(**beside, opponents=[(2.0, 3.0)]))
-    assert isinstance(free, Dribble) and isinstance(pressed, Dribble)
+    race = variant("DribbleConeRace")  # lead 0.5 m: a race with an opponent within 2 m of the ball
+    free = Player("L", 2, 0, config=race).decide(view(**beside, opponents=[(-3.0, 2.2)]))
+    raced = Player("L", 2, 0, config=race).decide(view(**beside, opponents=[(-3.0, 1.8)]))
+    always = Player("L", 2, 0, config=variant("DribbleCone")).decide(view(**beside, opponents=[(-3.0, 2.2)]))
+    assert isinstance(free, Dribble) and isinstance(raced, Dribble)
     assert np.allclose(free.target, goal_line)  # free: straight at the goal
-    for turned in (pressed.target, always.target):  # toward +y, the side the player comes along
+    for turned in (raced.target, always.target):  # toward +y, the side the player comes along
         assert turned[1] > 0.5 and math.hypot(turned[0] + 3.0, turned[1]) < 2.5
 
 
