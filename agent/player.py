@@ -258,7 +258,8 @@ class Player:
         cfg = self.config
         dribble = cfg.dribble and (not cfg.kicks or st.opponent_near_ball(view, cfg.dribble_near))
         lead = cfg.dribble_cone_lead
-        free = lead is not None and not st.opponent_may_reach_first(view, lead)
+        free = (lead is not None and not st.opponent_may_reach_first(view, lead)
+                and float(np.hypot(view.pose[0] - ball[0], view.pose[1] - ball[1])) >= cfg.dribble_cone_keep)
         cone = 0.0 if free else cfg.dribble_cone  # free: straight at the goal
         if dribble and view.mode == PM.PLAY_ON:
             return Dribble(tuple(st.dribble_target(view, cone)))

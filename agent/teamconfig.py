@@ -29,7 +29,8 @@ class TeamConfig:
     dribble_set: str = "go_to_target"  # the walk set a dribble walks through the ball with
     dribble_cone: float = 0.0  # rad a dribble in play may turn from the goal toward the approach ...
     dribble_cone_lead: float | None = None  # ... only when an opponent is within my distance to the
-    # ball plus this (m): it may reach the ball about as soon (a race); None: always
+    # ball plus this (m): it may reach the ball about as soon (a race); None: always ...
+    dribble_cone_keep: float = 0.0  # ... or when I am within this (m) of the ball (dribbling on)
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
@@ -91,6 +92,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # opponent within 2 m of the ball, it scored less against a standing team (posture).
     "DribbleConeRace": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.5),
     "DribbleConeRace0": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.0),
+    # Race0, and the cone kept while dribbling on (within 1 m of the ball), so that the
+    # line does not snap back to the goal's between plans and the player line up again.
+    "DribbleConeKeep": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.0,
+                                  dribble_cone_keep=1.0),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

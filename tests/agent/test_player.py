@@ -120,3 +120,13 @@ def test_goalie_dives_at_a_shot_and_otherwise_guards_the_line(players):
     assert isinstance(req, Dive) and req.name in ("DIVE_LEFT", "DIVE_CENTER")
     req = g.decide(view(1, me, (-5.0, 3.0)))
     assert isinstance(req, WalkTo) and req.x == pytest.approx(st.GOALIE_LINE) and 0 < req.y < 1.0
+
+
+def test_dribble_cone_keep_holds_the_cone_while_dribbling_on():
+    on = dict(unum=2, me=(-3.0, -0.5, math.pi / 2), ball=(-3.0, 0.0))  # 0.5 m behind a push toward +y
+    free = [(5.0, 5.0)]
+    goal_line = st.dribble_target(view(**on), 0.0)
+    race0 = Player("L", 2, 0, config=variant("DribbleConeRace0")).decide(view(**on, opponents=free))
+    keep = Player("L", 2, 0, config=variant("DribbleConeKeep")).decide(view(**on, opponents=free))
+    assert np.allclose(race0.target, goal_line)  # free: Race0 snaps back to the goal's line
+    assert keep.target[1] > 0.5  # Keep turns on along the push
