@@ -107,6 +107,7 @@ class Player:
         self._kick: tuple[float, np.ndarray, Kick | Dribble] | None = None  # (time, ball then, request)
         self.distances = sorted({round(k.spec.distance, 1) for k in self.body.kicks.values()})
         self.on_ball_since: float | None = None  # s: when this player last became the on-ball player
+        self._race: bool | None = None  # this possession started as a race (dribble_cone_lead)
         self._decided: float | None = None  # s, time of the last decision
         self._kickoff_taker: int | None = None  # our last kickoff's taker ...
         self._kickoff_until = -math.inf  # s: ... who leaves the ball to the others until then
@@ -226,6 +227,7 @@ class Player:
     def _not_on_ball(self) -> None:
         self._kick = None
         self.on_ball_since = None
+        self._race = None
 
     def _on_ball_request(self, view: st.TeamView) -> SkillRequest:
         """On the ball: keep away at their restarts, else kick or dribble."""
@@ -257,10 +259,10 @@ class Player:
         ball = view.ball
         cfg = self.config
         dribble = cfg.dribble and (not cfg.kicks or st.opponent_near_ball(view, cfg.dribble_near))
-        lead = cfg.dribble_cone_lead
-        free = (lead is not None and not st.opponent_may_reach_first(view, lead)
-                and float(np.hypot(view.pose[0] - ball[0], view.pose[1] - ball[1])) >= cfg.dribble_cone_keep)
-        cone = 0.0 if free else cfg.dribble_cone  # free: straight at the goal
+        if self._race is None:  # judged once a possession: a target that flips makes it line up again
+            lead = cfg.dribble_cone_lead
+            self._race = lead is None or st.opponent_may_reach_first(view, lead)
+        cone = cfg.dribble_cone if self._race else 0.0  # free: straight at the goal
         if dribble and view.mode == PM.PLAY_ON:
             return Dribble(tuple(st.dribble_target(view, cone)))
         reach = max(self.distances)

@@ -28,9 +28,8 @@ class TeamConfig:
     dribble: bool = True  # may dribble
     dribble_set: str = "go_to_target"  # the walk set a dribble walks through the ball with
     dribble_cone: float = 0.0  # rad a dribble in play may turn from the goal toward the approach ...
-    dribble_cone_lead: float | None = None  # ... only when an opponent is within my distance to the
-    # ball plus this (m): it may reach the ball about as soon (a race); None: always ...
-    dribble_cone_keep: float = 0.0  # ... or when I am within this (m) of the ball (dribbling on)
+    dribble_cone_lead: float | None = None  # ... only when, as the player takes the ball on, an
+    # opponent is within its distance to the ball plus this (m): a race; held for the possession
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
@@ -87,15 +86,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch).
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0)),
-    # The same cone only in a race for the ball: an opponent within my own distance to the
-    # ball plus 0.5 m; straight at the goal when free. Always (DribbleCone), or with an
-    # opponent within 2 m of the ball, it scored less against a standing team (posture).
-    "DribbleConeRace": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.5),
-    "DribbleConeRace0": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.0),
-    # Race0, and the cone kept while dribbling on (within 1 m of the ball), so that the
-    # line does not snap back to the goal's between plans and the player line up again.
-    "DribbleConeKeep": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.0,
-                                  dribble_cone_keep=1.0),
+    # The same cone only for a possession that starts as a race: an upright opponent no farther
+    # from the ball than the player when it becomes the on-ball player; straight at the goal
+    # when free. Always (DribbleCone) it scored less against a standing team (posture).
+    "DribbleConeHeld": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.0),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

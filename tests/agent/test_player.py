@@ -3,6 +3,7 @@ what the on-ball player asks for, the goalie, and keeping away at their restarts
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -83,17 +84,20 @@ def test_shots_only_dribbles_where_the_team_would_pass_and_shoots_where_it_would
     assert isinstance(req, Kick) and req.target[0] > fld.HALF_LENGTH
 
 
-def test_dribble_cone_race_turns_only_when_an_opponent_may_reach_the_ball_first():
+def test_dribble_cone_held_turns_only_for_a_possession_that_starts_as_a_race():
     beside = dict(unum=2, me=(-3.0, -1.5, 0.0), ball=(-3.0, 0.0))  # 1.5 m from the ball, from the side
     goal_line = st.dribble_target(view(**beside), 0.0)
-    race = variant("DribbleConeRace")  # lead 0.5 m: a race with an opponent within 2 m of the ball
-    free = Player("L", 2, 0, config=race).decide(view(**beside, opponents=[(-3.0, 2.2)]))
-    raced = Player("L", 2, 0, config=race).decide(view(**beside, opponents=[(-3.0, 1.8)]))
-    always = Player("L", 2, 0, config=variant("DribbleCone")).decide(view(**beside, opponents=[(-3.0, 2.2)]))
+    held = variant("DribbleConeHeld")
+    free_first = Player("L", 2, 0, config=held)
+    free = free_first.decide(view(**beside, opponents=[(-3.0, 1.6)]))  # 1.6 m from the ball: no race
+    raced = Player("L", 2, 0, config=held).decide(view(**beside, opponents=[(-3.0, 1.4)]))
+    always = Player("L", 2, 0, config=variant("DribbleCone")).decide(view(**beside, opponents=[(-3.0, 1.6)]))
     assert isinstance(free, Dribble) and isinstance(raced, Dribble)
     assert np.allclose(free.target, goal_line)  # free: straight at the goal
     for turned in (raced.target, always.target):  # toward +y, the side the player comes along
         assert turned[1] > 0.5 and math.hypot(turned[0] + 3.0, turned[1]) < 2.5
+    later = dataclasses.replace(view(**beside, opponents=[(-3.0, 1.4)]), time=12.0)
+    assert np.allclose(free_first.decide(later).target, goal_line)  # held for the possession
 
 
 def test_a_shot_in_reach_uses_kicks_that_reach_the_goal():
@@ -120,13 +124,3 @@ def test_goalie_dives_at_a_shot_and_otherwise_guards_the_line(players):
     assert isinstance(req, Dive) and req.name in ("DIVE_LEFT", "DIVE_CENTER")
     req = g.decide(view(1, me, (-5.0, 3.0)))
     assert isinstance(req, WalkTo) and req.x == pytest.approx(st.GOALIE_LINE) and 0 < req.y < 1.0
-
-
-def test_dribble_cone_keep_holds_the_cone_while_dribbling_on():
-    on = dict(unum=2, me=(-3.0, -0.5, math.pi / 2), ball=(-3.0, 0.0))  # 0.5 m behind a push toward +y
-    free = [(5.0, 5.0)]
-    goal_line = st.dribble_target(view(**on), 0.0)
-    race0 = Player("L", 2, 0, config=variant("DribbleConeRace0")).decide(view(**on, opponents=free))
-    keep = Player("L", 2, 0, config=variant("DribbleConeKeep")).decide(view(**on, opponents=free))
-    assert np.allclose(race0.target, goal_line)  # free: Race0 snaps back to the goal's line
-    assert keep.target[1] > 0.5  # Keep turns on along the push
