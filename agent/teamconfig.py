@@ -86,6 +86,7 @@ VARIANTS: dict[str, TeamConfig] = {
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch).
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0)),
+    "DribbleCone30": TeamConfig(dribble_cone=math.radians(30.0)),  # the same, at most 30 deg
     # The same cone only for a possession that starts as a race: an upright opponent no farther
     # from the ball than the player when it becomes the on-ball player; straight at the goal
     # when free. Always (DribbleCone) it scored less against a standing team (posture).
