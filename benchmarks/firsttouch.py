@@ -27,8 +27,8 @@ types 0-2's medians with the cone to 6.3, 6.2 and 5.8 s (not in the team). From 
 straight behind the ball (type 0) the touch comes after 5.1-6.0 s: the walk covers 0.1 m
 in its first 1.4 s (the walk engine's step sizes follow the request through a filter of
 gain pid_step_size_x, 0.023 a cycle for type 0's go-to-target set), then about 0.35 m/s.
-A gain of 0.05 or 0.08 took 0.3-0.4 s off that and added 2-3 s from beside the ball, so
-the 4 s goal waits for a faster walk.
+A gain of 0.05 or 0.08 took 0.3-0.4 s off that but added 2-3 s in two of three tries from
+beside the ball (3 tries each way): the 4 s goal waits for a faster walk.
 
     python -m benchmarks.firsttouch [--types 0,1,2,3,4] [--tries 16] [--seed 0]
                                     [--variant NAME] [--seconds 12] [--near 1] [--far 2]
