@@ -27,7 +27,10 @@ class TeamConfig:
     kicks: bool = False
     dribble: bool = True  # may dribble
     dribble_set: str = "go_to_target"  # the walk set a dribble walks through the ball with
-    dribble_cone: float = 0.0  # rad a dribble in play may turn from the goal toward the approach ...
+    # rad a dribble in play may turn from the goal toward the approach ... 60 deg: villa:DribbleCone
+    # beat villa without it (villa:NoCone) by +0.30 +- 0.09 goals over 80 full games
+    # (benchmarks/results/dribblecone-vs-villa/), but scores about 1.2 fewer against posture.
+    dribble_cone: float = math.radians(60.0)
     dribble_cone_lead: float | None = None  # ... only when, as the player takes the ball on, an
     # opponent is within its distance to the ball plus this (m): a race; held for the possession
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
@@ -65,8 +68,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # not in the paper's table
     "NoVoting": TeamConfig(voting=False),  # communication on, each follows its own mapping
     # The base team until December 5, 2026: kicks in play when no opponent is near the ball.
-    "Kicks": TeamConfig(kicks=True),
-    "DribbleOnly": TeamConfig(kicks=False),  # the base team since then
+    "Kicks": TeamConfig(kicks=True, dribble_cone=0.0),
+    "DribbleOnly": TeamConfig(kicks=False, dribble_cone=0.0),  # the base team from then ...
+    "NoCone": TeamConfig(dribble_cone=0.0),  # ... until December 2026 (the dribble straight at the goal)
     "KickOnly": TeamConfig(kicks=True, dribble=False),
     # In play: a shot when one is open, else dribble. Against villa -0.10 +- 0.22 over 40 full
     # games (benchmarks/results/shotsonly-vs-villa/).
@@ -84,7 +88,7 @@ VARIANTS: dict[str, TeamConfig] = {
     # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).
     "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
-    # from, so that it need not go round the ball (issue 47: a quicker first touch).
+    # from, so that it need not go round the ball (issue 47: a quicker first touch): villa itself.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0)),
     "DribbleCone30": TeamConfig(dribble_cone=math.radians(30.0)),  # the same, at most 30 deg
     # The same cone only for a possession that starts as a race: an upright opponent no farther

@@ -15,15 +15,20 @@ the opponents' goal). The benchmark reads ground truth:
 The time includes finding the ball: the player starts from the kickoff's ball in its
 memory and sees this one within about a second.
 
-What it showed (16 tries a type, seed 0, December 2026), types 0-4, villa ->
-villa:DribbleCone: median time to the first touch 10.3, 8.2, 9.0, 8.8, 9.4 -> 6.4, 6.8,
-6.9, 6.8, 7.1 s; tries without a touch in 12 s 13 -> 6 of 80; progress toward the goal
-1.54 -> 1.53 m a try on average; falls 1 -> 0. From straight behind the ball, 1 m
-away, the touch comes after about 4 s with either; from ahead of it (between the ball and
-the goal) it takes 10 s or more with either, most of it sidestepping and turning round
-the ball at walking speeds of 0.1-0.3 m/s. A wider lane and facing for pushing on
-(0.15 m and 35 deg instead of 0.1 m and 25 deg) took types 0-2's medians with the cone to
-6.3, 6.2 and 5.8 s (not in the team).
+What it showed (16 tries a type, seed 0, December 2026), types 0-4, villa:NoCone ->
+villa (the dribble cone, then villa:DribbleCone): median time to the first touch 10.3,
+8.2, 9.0, 8.8, 9.4 -> 6.4, 6.8, 6.9, 6.8, 7.1 s; tries without a touch in 12 s 13 -> 6
+of 80; progress toward the goal 1.54 -> 1.53 m a try on average; falls 1 -> 0. From
+straight behind the ball, 1 m away, the touch comes after about 4 s with either; from
+ahead of it (between the ball and the goal) it takes 10 s or more with either, most of
+it sidestepping and turning round the ball at walking speeds of 0.1-0.3 m/s. A wider
+lane and facing for pushing on (0.15 m and 35 deg instead of 0.1 m and 25 deg) took
+types 0-2's medians with the cone to 6.3, 6.2 and 5.8 s (not in the team). From 1.5 m
+straight behind the ball (type 0) the touch comes after 5.1-6.0 s: the walk covers 0.1 m
+in its first 1.4 s (the walk engine's step sizes follow the request through a filter of
+gain pid_step_size_x, 0.023 a cycle for type 0's go-to-target set), then about 0.35 m/s.
+A gain of 0.05 or 0.08 took 0.3-0.4 s off that but added 2-3 s in two of three tries from
+beside the ball (3 tries each way): the 4 s goal waits for a faster walk.
 
     python -m benchmarks.firsttouch [--types 0,1,2,3,4] [--tries 16] [--seed 0]
                                     [--variant NAME] [--seconds 12] [--near 1] [--far 2]

@@ -11,7 +11,7 @@ import pytest
 from agent.player import Player
 from agent.posture import PostureAgent
 from agent.requests import Dribble, Kick, WalkTo
-from agent.teamconfig import TeamConfig
+from agent.teamconfig import TeamConfig, variant
 from models.rules import PlayMode
 from models.scene import Lineup
 from optimization.trials import first_touch, place_player
@@ -77,11 +77,11 @@ def test_targets_straight_ahead_are_walked_to_with_the_sprint_set():
 
 
 def test_a_dribble_cone_touches_a_ball_beside_the_player_sooner():
-    """From 1.5 m beside the ball, villa goes round it to push it at the goal; the cone
-    pushes it on along a line between the goal's and its own (type 0, seed 0)."""
+    """From 1.5 m beside the ball, villa:NoCone goes round it to push it at the goal; villa's
+    cone pushes it on along a line between the goal's and its own (type 0, seed 0)."""
     beside = dict(seed=0, ball=(2.0, 1.0), bearing=math.pi / 2, distance=1.5)
-    base = first_touch(0, TeamConfig(), **beside)
-    cone = first_touch(0, TeamConfig(dribble_cone=math.radians(60.0)), **beside)
+    base = first_touch(0, variant("NoCone"), **beside)
+    cone = first_touch(0, TeamConfig(), **beside)
     assert base.falls == cone.falls == 0
     assert cone.touch is not None and (base.touch is None or cone.touch < base.touch - 2.0), (base, cone)
     assert cone.progress > 0.5  # toward the opponents' goal

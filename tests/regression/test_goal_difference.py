@@ -4,8 +4,8 @@ CI (always): a short seeded batch of villa against posture must show villa winni
 by at least MARGIN goals a game on average; the same check must fail for a broken
 villa that never kicks nor dribbles (`tests.regression.teams:broken`), so the test
 can fail at all. Measured (2 x 150 s, 3 vs 3, seeds 0-1, villa left then right):
-villa vs posture 3:0 and 4:0 (the dribbling villa of December 5, 2026: 2:0 and 3:0),
-the broken team 0:0 and 0:0. Halves of 60 s were too
+villa vs posture 3:0 and 4:0 (the dribbling villa of December 5, 2026: 2:0 and 3:0; with
+the dribble cone: 2:0 and 2:0), the broken team 0:0 and 0:0. Halves of 60 s were too
 short for two games to tell: villa scored 2 goals in 6 such games once its particle
 filter drew its noise once a frame (it had scored 1 a game in the first two).
 
