@@ -520,6 +520,5 @@ __all__ = [
     "closeness", "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away",
     "kick_score", "kick_scores", "kickoff_positions", "on_ball_player", "opponent_may_reach_first",
     "opponent_near_ball", "own_half", "pass_target", "path_obstacles", "role_obstacles", "role_positions",
-    "shot_target", "walking_cost",
-    "walking_costs",
+    "shot_target", "walking_cost", "walking_costs",
 ]
