@@ -39,6 +39,14 @@ DRIBBLE_LANE = 0.1  # m either side of the ball's line: pushing on
 DRIBBLE_FACING = math.radians(25.0)  # rad of heading error while pushing on
 DRIBBLE_REACH = 0.6  # m from the ball: farther, line up again
 BALL_ROUND = 0.5  # m: go round the ball this far when it is in the way of lining up
+# The funnel (TeamConfig.dribble_funnel): lining a dribble up without stopping.
+FUNNEL_CONE = math.radians(35.0)  # rad off the line behind the ball (seen from it): round it first ...
+FUNNEL_LEAVE = math.radians(60.0)  # ... and once behind it, round it again only beyond this
+FUNNEL_LEAD = 0.7  # m: behind the ball, walk toward its line this far ahead ...
+FUNNEL_NEAR = 0.15  # ... but no nearer the ball than this (m behind it)
+FUNNEL_BRAKE = 0.25  # m: walk_toward's braking radius walking into the line ...
+ORBIT_LEAD = math.radians(50.0)  # rad: rounding the ball, walk toward the circle this far on ...
+ORBIT_BRAKE = 0.05  # m ... without slowing
 KICK_BEHIND = 0.5  # m behind the ball where the walk hands a kick over to the kicker
 HANDOVER = 0.9  # m from the ball: the kicker (approach, align, kick) takes over
 RELEASE = 1.6  # m: the ball got this far away during the approach: walk again
@@ -55,13 +63,14 @@ class Body:
     "sprint" set, not "go_to_target" (None: never; `skills.navigate.sprints`);
     walk_sets: the walk sets (default: the type's shipped ones); kick_params: keyframe kick
     parameter files loaded after the shipped ones; dribble_set: the walk set a dribble walks
-    through the ball with."""
+    through the ball with; funnel: line a dribble up with `_funnel`, not `_line_up`."""
 
     def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None,
                  walk_sets: Mapping[str, WalkParams] | None = None, kick_params: Sequence[Path] = (),
-                 dribble_set: str = "go_to_target") -> None:
+                 dribble_set: str = "go_to_target", funnel: bool = False) -> None:
         self.robot_type = robot_type
         self.dribble_set = dribble_set
+        self.funnel = funnel
         self.sprint_within = None if sprint_within is None else math.radians(sprint_within)
         self.kicks = all_kicks(robot_type, keyframe_params=list(kick_params))
         if kick_box != 1.0:  # a wider box to stop in: fewer aligns, a less exact kick
@@ -79,6 +88,7 @@ class Body:
         self.odometry = (0.0, 0.0, 0.0)  # the walk's (dx, dy, dtheta) in the last cycle (torso frame)
         self.kicks_started = 0  # kicks begun (the kicker left its approach for a kick)
         self._recovering = False
+        self._funneling = False  # behind the ball, walking into its line (`_funnel`)
         self._kick_state = None
         self._settle_until: float | None = -1.0  # s: standing still after a beam until then
 
@@ -225,9 +235,11 @@ class Body:
         return v
 
     def _walk_to(self, percept: Percept, world: WorldModel, tx: float, ty: float,
-                 heading: float | None, set_name: str = "go_to_target", sprint: bool = True) -> np.ndarray:
-        """Walk toward (tx, ty) (team frame, m), ending facing `heading` if given; with
-        `sprint` and the team's sprint_within, the sprint set toward a far target ahead."""
+                 heading: float | None, set_name: str = "go_to_target", sprint: bool = True,
+                 brake: float = 0.5) -> np.ndarray:
+        """Walk toward (tx, ty) (team frame, m), ending facing `heading` if given, slowing
+        within `brake` m; with `sprint` and the team's sprint_within, the sprint set toward a
+        far target ahead."""
         x, y, h = world.pose.tolist()
         dx, dy = Pose2(x, y, h).to_local(tx, ty)
         dheading = None if heading is None else wrap(heading - h)
@@ -236,7 +248,7 @@ class Body:
         if sprint and set_name == "go_to_target" and sprints(dx, dy, self.sprint_within):
             set_name = "sprint"
         params = self.motion.walk.sets[set_name]
-        return self._walk(percept, world, *walk_toward(dx, dy, dheading, params), set_name)
+        return self._walk(percept, world, *walk_toward(dx, dy, dheading, params, brake=brake), set_name)
 
     def _stand(self, percept: Percept, world: WorldModel, heading: float | None) -> np.ndarray:
         x, y, _ = world.pose
@@ -257,6 +269,8 @@ class Body:
             # through the ball, never sprinting: sprinting through it fell 4 times in 10 tries
             return self._walk_to(percept, world, float(aim[0]), float(aim[1]), None,
                                  self.dribble_set, sprint=False)
+        if self.funnel:
+            return self._funnel(percept, world, req.target)
         return self._line_up(percept, world, req.target, DRIBBLE_BEHIND)
 
     def _line_up(self, percept: Percept, world: WorldModel, target: tuple[float, float],
@@ -273,6 +287,30 @@ class Body:
             stage = ball + BALL_ROUND * side * np.array([-u[1], u[0]]) - 0.2 * u
         heading = math.atan2(u[1], u[0]) if float(np.hypot(*(me - stage))) < 0.5 else None
         return self._walk_to(percept, world, float(stage[0]), float(stage[1]), heading)
+
+    def _funnel(self, percept: Percept, world: WorldModel, target: tuple[float, float]) -> np.ndarray:
+        """Get behind the ball on its line to `target` (team frame, m) without stopping.
+
+        Seen from the ball, more than FUNNEL_CONE off that line (FUNNEL_LEAVE once within):
+        walk round the ball facing the way, toward the BALL_ROUND circle ORBIT_LEAD further
+        round. Within: walk toward the line FUNNEL_LEAD m ahead, facing along it, until
+        `_dribble` pushes on. `_line_up` instead stops at a spot behind the ball and steps
+        sideways into it, slowly, when the line moved (the dribble cone's does)."""
+        ball = world.ball_filter.position
+        me = np.asarray(world.pose[:2], dtype=float)
+        u = _unit(np.asarray(target, dtype=float) - ball)
+        d = me - ball
+        phi = math.atan2(d[1], d[0])
+        delta = wrap(math.atan2(-u[1], -u[0]) - phi)  # round the ball by this to be behind it
+        self._funneling = abs(delta) < (FUNNEL_LEAVE if self._funneling else FUNNEL_CONE)
+        if not self._funneling:
+            a = phi + math.copysign(min(abs(delta), ORBIT_LEAD), delta)
+            via = ball + BALL_ROUND * np.array([math.cos(a), math.sin(a)])
+            return self._walk_to(percept, world, float(via[0]), float(via[1]), None, brake=ORBIT_BRAKE)
+        along = float(d @ u)
+        point = ball + min(along + FUNNEL_LEAD, -FUNNEL_NEAR) * u
+        return self._walk_to(percept, world, float(point[0]), float(point[1]), math.atan2(u[1], u[0]),
+                             brake=FUNNEL_BRAKE)
 
 
 def _unit(v: np.ndarray) -> np.ndarray:

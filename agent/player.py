@@ -93,7 +93,8 @@ class Player:
         self.body = Body(robot_type, config.kick_box,
                          config.sprint_within if robot_type in config.sprint_types else None,
                          _walk_sets(config.walk_files, robot_type),
-                         _type_files(config.kick_files, robot_type), config.dribble_set)
+                         _type_files(config.kick_files, robot_type), config.dribble_set,
+                         config.dribble_funnel)
         self.formation = _formation(config.formation)
         self.votes = VoteWindow(TEAM_SIZE)
         self.vote: tuple[int, ...] | None = None  # this player's own role mapping

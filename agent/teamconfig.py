@@ -33,6 +33,7 @@ class TeamConfig:
     dribble_cone: float = math.radians(60.0)
     dribble_cone_lead: float | None = None  # ... only when, as the player takes the ball on, an
     # opponent is within its distance to the ball plus this (m): a race; held for the possession
+    dribble_funnel: bool = False  # line a dribble up walking round the ball and into its line (Body._funnel)
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
@@ -95,6 +96,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # from the ball than the player when it becomes the on-ball player; straight at the goal
     # when free. Always (DribbleCone) it scored less against a standing team (posture).
     "DribbleConeHeld": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.0),
+    # Lines a dribble up without stopping: round the ball walking forward, then into its line
+    # facing along it (issue 47: a quicker first touch; benchmarks.firsttouch).
+    "Funnel": TeamConfig(dribble_funnel=True),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and
