@@ -85,3 +85,17 @@ def test_a_dribble_cone_touches_a_ball_beside_the_player_sooner():
     assert base.falls == cone.falls == 0
     assert cone.touch is not None and (base.touch is None or cone.touch < base.touch - 2.0), (base, cone)
     assert cone.progress > 0.5  # toward the opponents' goal
+
+
+@pytest.mark.parametrize("robot_type", [0, 2])
+def test_the_funnel_rounds_a_ball_without_stopping(robot_type):
+    """From 1.5 m in front of the ball (between it and the goal), villa lines the dribble up at
+    a spot behind the ball and steps sideways into it as the cone's line moves; villa:Funnel
+    walks round and into the line, and touches the ball at least 2 s sooner, pushing it on
+    toward the opponents' goal, without falling."""
+    ahead = dict(seed=0, ball=(1.0, -0.5), bearing=0.3, distance=1.5)
+    base = first_touch(robot_type, TeamConfig(), **ahead)
+    funnel = first_touch(robot_type, variant("Funnel"), **ahead)
+    assert funnel.falls == 0
+    assert funnel.touch is not None and (base.touch is None or funnel.touch < base.touch - 2.0), (base, funnel)
+    assert funnel.progress > 0.3
