@@ -40,8 +40,7 @@ DRIBBLE_FACING = math.radians(25.0)  # rad of heading error while pushing on
 DRIBBLE_REACH = 0.6  # m from the ball: farther, line up again
 BALL_ROUND = 0.5  # m: go round the ball this far when it is in the way of lining up
 # The funnel (TeamConfig.dribble_funnel): lining a dribble up without stopping.
-FUNNEL_CONE = math.radians(35.0)  # rad off the line behind the ball (seen from it): round it first ...
-FUNNEL_LEAVE = math.radians(60.0)  # ... and once behind it, round it again only beyond this
+FUNNEL_CONE = math.radians(35.0)  # rad off the line behind the ball (seen from it): round it first
 FUNNEL_LEAD = 0.7  # m: behind the ball, walk toward its line this far ahead ...
 FUNNEL_NEAR = 0.15  # ... but no nearer the ball than this (m behind it)
 FUNNEL_BRAKE = 0.25  # m: walk_toward's braking radius walking into the line ...
@@ -291,23 +290,24 @@ class Body:
     def _funnel(self, percept: Percept, world: WorldModel, target: tuple[float, float]) -> np.ndarray:
         """Get behind the ball on its line to `target` (team frame, m) without stopping.
 
-        Seen from the ball, more than FUNNEL_CONE off that line (FUNNEL_LEAVE once within):
-        walk round the ball facing the way, toward the BALL_ROUND circle ORBIT_LEAD further
-        round. Within: walk toward the line FUNNEL_LEAD m ahead, facing along it, until
-        `_dribble` pushes on. `_line_up` instead stops at a spot behind the ball and steps
-        sideways into it, slowly, when the line moved (the dribble cone's does)."""
+        Seen from the ball, more than FUNNEL_CONE off that line: walk round the ball facing
+        the way, toward the BALL_ROUND circle ORBIT_LEAD further round. Within, and from then
+        on while behind the ball (the line turns as the robot comes round: the cone's does):
+        walk toward the line FUNNEL_LEAD m ahead, facing along it, until `_dribble` pushes on.
+        `_line_up` instead stops at a spot behind the ball and steps sideways into it, slowly,
+        when the line moved."""
         ball = world.ball_filter.position
         me = np.asarray(world.pose[:2], dtype=float)
         u = _unit(np.asarray(target, dtype=float) - ball)
         d = me - ball
         phi = math.atan2(d[1], d[0])
         delta = wrap(math.atan2(-u[1], -u[0]) - phi)  # round the ball by this to be behind it
-        self._funneling = abs(delta) < (FUNNEL_LEAVE if self._funneling else FUNNEL_CONE)
+        along = float(d @ u)
+        self._funneling = along < -0.05 if self._funneling else abs(delta) < FUNNEL_CONE
         if not self._funneling:
             a = phi + math.copysign(min(abs(delta), ORBIT_LEAD), delta)
             via = ball + BALL_ROUND * np.array([math.cos(a), math.sin(a)])
             return self._walk_to(percept, world, float(via[0]), float(via[1]), None, brake=ORBIT_BRAKE)
-        along = float(d @ u)
         point = ball + min(along + FUNNEL_LEAD, -FUNNEL_NEAR) * u
         return self._walk_to(percept, world, float(point[0]), float(point[1]), math.atan2(u[1], u[0]),
                              brake=FUNNEL_BRAKE)

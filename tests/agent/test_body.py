@@ -97,5 +97,6 @@ def test_the_funnel_rounds_a_ball_without_stopping(robot_type):
     base = first_touch(robot_type, TeamConfig(), **ahead)
     funnel = first_touch(robot_type, variant("Funnel"), **ahead)
     assert funnel.falls == 0
-    assert funnel.touch is not None and (base.touch is None or funnel.touch < base.touch - 2.0), (base, funnel)
+    sooner = base.touch is None or funnel.touch < base.touch - 2.0
+    assert funnel.touch is not None and sooner, (base, funnel)
     assert funnel.progress > 0.3
