@@ -33,7 +33,10 @@ class TeamConfig:
     dribble_cone: float = math.radians(60.0)
     dribble_cone_lead: float | None = None  # ... only when, as the player takes the ball on, an
     # opponent is within its distance to the ball plus this (m): a race; held for the possession
-    dribble_funnel: bool = False  # line a dribble up walking round the ball and into its line (Body._funnel)
+    # Line a dribble up walking round the ball and into its line (Body._funnel), not stopping at
+    # a spot behind it: villa:Funnel beat villa without it (villa:NoFunnel) by +0.43 +- 0.12
+    # goals over 40 full games (benchmarks/results/funnel-vs-villa/).
+    dribble_funnel: bool = True
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
@@ -69,9 +72,11 @@ VARIANTS: dict[str, TeamConfig] = {
     # not in the paper's table
     "NoVoting": TeamConfig(voting=False),  # communication on, each follows its own mapping
     # The base team until December 5, 2026: kicks in play when no opponent is near the ball.
-    "Kicks": TeamConfig(kicks=True, dribble_cone=0.0),
-    "DribbleOnly": TeamConfig(kicks=False, dribble_cone=0.0),  # the base team from then ...
-    "NoCone": TeamConfig(dribble_cone=0.0),  # ... until December 2026 (the dribble straight at the goal)
+    "Kicks": TeamConfig(kicks=True, dribble_cone=0.0, dribble_funnel=False),
+    "DribbleOnly": TeamConfig(kicks=False, dribble_cone=0.0, dribble_funnel=False),  # the base team then ...
+    # ... until December 5, 2026 (the dribble straight at the goal) ...
+    "NoCone": TeamConfig(dribble_cone=0.0, dribble_funnel=False),
+    "NoFunnel": TeamConfig(dribble_funnel=False),  # ... and then until December 6
     "KickOnly": TeamConfig(kicks=True, dribble=False),
     # In play: a shot when one is open, else dribble. Against villa -0.10 +- 0.22 over 40 full
     # games (benchmarks/results/shotsonly-vs-villa/).
@@ -89,15 +94,16 @@ VARIANTS: dict[str, TeamConfig] = {
     # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).
     "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
-    # from, so that it need not go round the ball (issue 47: a quicker first touch): villa itself.
-    "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0)),
-    "DribbleCone30": TeamConfig(dribble_cone=math.radians(30.0)),  # the same, at most 30 deg
+    # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
+    "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),
+    "DribbleCone30": TeamConfig(dribble_cone=math.radians(30.0), dribble_funnel=False),  # at most 30 deg
     # The same cone only for a possession that starts as a race: an upright opponent no farther
     # from the ball than the player when it becomes the on-ball player; straight at the goal
     # when free. Always (DribbleCone) it scored less against a standing team (posture).
-    "DribbleConeHeld": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.0),
+    "DribbleConeHeld": TeamConfig(dribble_cone=math.radians(60.0), dribble_cone_lead=0.0,
+                                  dribble_funnel=False),
     # Lines a dribble up without stopping: round the ball walking forward, then into its line
-    # facing along it (issue 47: a quicker first touch; benchmarks.firsttouch).
+    # facing along it (issue 47: a quicker first touch; benchmarks.firsttouch): villa itself.
     "Funnel": TeamConfig(dribble_funnel=True),
 }
 

@@ -77,11 +77,12 @@ def test_targets_straight_ahead_are_walked_to_with_the_sprint_set():
 
 
 def test_a_dribble_cone_touches_a_ball_beside_the_player_sooner():
-    """From 1.5 m beside the ball, villa:NoCone goes round it to push it at the goal; villa's
-    cone pushes it on along a line between the goal's and its own (type 0, seed 0)."""
+    """From 1.5 m beside the ball, villa:NoCone goes round it to push it at the goal; the
+    cone (villa:DribbleCone, which lines up as NoCone does) pushes it on along a line
+    between the goal's and its own (type 0, seed 0)."""
     beside = dict(seed=0, ball=(2.0, 1.0), bearing=math.pi / 2, distance=1.5)
     base = first_touch(0, variant("NoCone"), **beside)
-    cone = first_touch(0, TeamConfig(), **beside)
+    cone = first_touch(0, variant("DribbleCone"), **beside)
     assert base.falls == cone.falls == 0
     assert cone.touch is not None and (base.touch is None or cone.touch < base.touch - 2.0), (base, cone)
     assert cone.progress > 0.5  # toward the opponents' goal
@@ -89,13 +90,13 @@ def test_a_dribble_cone_touches_a_ball_beside_the_player_sooner():
 
 @pytest.mark.parametrize("robot_type", [0, 2])
 def test_the_funnel_rounds_a_ball_without_stopping(robot_type):
-    """From 1.5 m in front of the ball (between it and the goal), villa lines the dribble up at
-    a spot behind the ball and steps sideways into it as the cone's line moves; villa:Funnel
-    walks round and into the line, and touches the ball at least 2 s sooner, pushing it on
-    toward the opponents' goal, without falling."""
+    """From 1.5 m in front of the ball (between it and the goal), villa:NoFunnel lines the
+    dribble up at a spot behind the ball and steps sideways into it as the cone's line moves;
+    villa walks round and into the line, and touches the ball at least 2 s sooner, pushing it
+    on toward the opponents' goal, without falling."""
     ahead = dict(seed=0, ball=(1.0, -0.5), bearing=0.3, distance=1.5)
-    base = first_touch(robot_type, TeamConfig(), **ahead)
-    funnel = first_touch(robot_type, variant("Funnel"), **ahead)
+    base = first_touch(robot_type, variant("NoFunnel"), **ahead)
+    funnel = first_touch(robot_type, TeamConfig(), **ahead)
     assert funnel.falls == 0
     sooner = base.touch is None or funnel.touch < base.touch - 2.0
     assert funnel.touch is not None and sooner, (base, funnel)
