@@ -30,7 +30,7 @@ gain pid_step_size_x, 0.023 a cycle for type 0's go-to-target set), then about 0
 A gain of 0.05 or 0.08 took 0.3-0.4 s off that but added 2-3 s in two of three tries from
 beside the ball (3 tries each way): the 4 s goal waits for a faster walk.
 
-villa -> villa:Funnel (the dribble lined up without stopping: `agent.body.Body._funnel`),
+villa:NoFunnel -> villa:Funnel, villa since (the dribble lined up without stopping: `Body._funnel`),
 32 tries a type, seed 0: median first touch 5.79, 6.51, 6.30, 6.56, 6.08 -> 5.62, 5.31,
 5.92, 5.50, 5.86 s; 90th percentile 11.8, 9.7, 10.9, 10.6, 10.3 -> 6.9, 7.0, 7.1, 6.6,
 7.4 s; tries without a touch 8 -> 0 of 160; falls 0 -> 0; progress 1.66 -> 1.65 m.
