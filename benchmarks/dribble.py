@@ -27,7 +27,10 @@ stops 0.6, 1.1, 1.8 and 2.8 m on, so a push must leave the foot below about 0.5 
 for a robot at 0.35 m/s to stay within 1 m; the walk's swing foot meets the ball
 faster than that. Walking through the ball with the position-to-dribble set instead
 (tried, 8 tries a type, not shipped): gap 1.5-1.9 m (types 0-4), off line 0.5-1.5 m,
-0.28-0.33 m/s, one fall (type 2); still 0 held.
+0.28-0.33 m/s, one fall (type 2); still 0 held. The funnel (villa since December 6; 8 tries a type,
+villa:NoFunnel -> villa): done 39 -> 40 of 40, median speed 0.28-0.37 -> 0.30-0.35 m/s,
+gap 1.8-2.3 -> 1.5-2.1 m, off line 0.5-1.7 -> 0.6-1.5 m, falls 0 -> 3 (types 2 and 3);
+still 0 held.
 
 `--variant NAME` dribbles with a villa variant's body (`villa:Sprint`: the sprint
 set toward a target within 15 deg, through the ball too).
