@@ -302,7 +302,7 @@ class Body:
         d = me - ball
         phi = math.atan2(d[1], d[0])
         delta = wrap(math.atan2(-u[1], -u[0]) - phi)  # round the ball by this to be behind it
-        along = float(d @ u)
+        along, _ = _ball_frame(me, ball, u)
         self._funneling = along < -0.05 if self._funneling else abs(delta) < FUNNEL_CONE
         if not self._funneling:
             a = phi + math.copysign(min(abs(delta), ORBIT_LEAD), delta)
