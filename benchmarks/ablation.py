@@ -185,10 +185,7 @@ def run(names: list[str], games: int, half_time: float, size: int, seed: int, wo
                 walls[name] += time.perf_counter() - start
                 rows[name] = variant_row(name, s, half_time, size, walls[name])
             ordered = [rows[n] for n in names]
-            write_text(out / "ablation.jsonl", "".join(json.dumps(r) + "\n" for r in ordered))
-            head = header(games=played, half_time=half_time, size=size, seed=seed)
-            write_text(out / "table.md", head + "\n\n" + table(ordered) + "\n")
-            write_plot(out / "ablation.png", ordered, head)
+            write_outputs(out, ordered, header(games=played, half_time=half_time, size=size, seed=seed))
             if progress is not None:
                 print(f"round: {played} of {games} games per variant", file=progress, flush=True)
                 print(table(ordered), file=progress, flush=True)
@@ -220,10 +217,26 @@ def report(out: Path, names: list[str] | None = None) -> list[dict]:
                                 settings.home_size, 0.0))
     n = min(r["n"] for r in rows)
     head = header(n, settings.half_time, settings.home_size, settings.seed) + " (at least; see each count)"
-    write_text(out / "ablation.jsonl", "".join(json.dumps(r) + "\n" for r in rows))
-    write_text(out / "table.md", head + "\n\n" + table(rows) + "\n")
-    write_plot(out / "ablation.png", rows, head)
+    write_outputs(out, rows, head)
     return rows
+
+
+def agreement_line(rows: list[dict]) -> str | None:
+    """The rank correlation with the paper's column as a sentence (None: too few variants)."""
+    agree = rank_agreement(rows)
+    if agree is None:
+        return None
+    return (f"Spearman rank correlation with the paper's column over {agree['variants']} variants: "
+            f"rho {agree['spearman_rho']}, p {agree['p']}")
+
+
+def write_outputs(out: Path, rows: list[dict], head: str) -> None:
+    """OUT/ablation.jsonl (one row a variant), OUT/table.md (the table under `head`, with the
+    rank correlation with the paper's column below it) and OUT/ablation.png."""
+    write_text(out / "ablation.jsonl", "".join(json.dumps(r) + "\n" for r in rows))
+    agree = agreement_line(rows)
+    write_text(out / "table.md", head + "\n\n" + table(rows) + "\n" + (f"\n{agree}\n" if agree else ""))
+    write_plot(out / "ablation.png", rows, head)
 
 
 def header(games: int, half_time: float, size: int, seed: int) -> str:
@@ -263,6 +276,9 @@ def main(argv: list[str] | None = None) -> int:
             print(f"benchmarks.ablation: error: {exc}", file=sys.stderr)
             return 2
         print(table(rows))
+        agree = agreement_line(rows)
+        if agree:
+            print(f"\n{agree}")
         return 0
     print(json.dumps({"machine": machine()}), flush=True)
     with tempfile.TemporaryDirectory(prefix="ablation-") as tmp:
@@ -281,8 +297,7 @@ def main(argv: list[str] | None = None) -> int:
     print(header(args.games, args.half_time, args.size, args.seed))
     print(table(rows))
     if agree is not None:
-        print(f"\nSpearman rank correlation with the paper's column over {agree['variants']} variants: "
-              f"rho {agree['spearman_rho']}, p {agree['p']}")
+        print(f"\n{agreement_line(rows)}")
     return 0
 
 

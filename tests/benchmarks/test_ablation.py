@@ -64,6 +64,17 @@ def test_rank_agreement_is_spearman_over_the_papers_variants():
     assert ablation.rank_agreement(same[:2]) is None
 
 
+def test_table_file_gives_the_rank_correlation_with_the_paper(tmp_path):
+    rows = [{"variant": n, "n": 1, "mean": -m, "se": 0.1, "wins": 0, "draws": 1, "losses": 0}
+            for n, (m, _) in ablation.PAPER_TABLE2.items()]
+    ablation.write_outputs(tmp_path, rows, "head")
+    md = (tmp_path / "table.md").read_text()
+    assert md.startswith("head\n") and md.rstrip().endswith(
+        f"over {len(rows)} variants: rho -1.0, p 0.0")
+    ablation.write_outputs(tmp_path, rows[:2], "head")  # too few to rank: no line
+    assert "Spearman" not in (tmp_path / "table.md").read_text()
+
+
 def test_cli_errors(capsys):
     assert ablation.main(["--variants", "Nope"]) == 2
     assert "unknown villa variant 'Nope'" in capsys.readouterr().err
