@@ -6,7 +6,8 @@ alternating; the same seeds for every variant); its mean goal difference
 (variant - base) and standard error are printed beside the paper's (100
 ten-minute 11 vs 11 games), as one JSON line per variant and then a Markdown
 table, with the machine it ran on and the rank correlation of our means with
-the paper's.
+the paper's (Spearman's rho, and its 95% interval over our means redrawn from their
+standard errors: whether our games can tell the order at all).
 
 Games are played in rounds of `--round` games per variant (default 2, one from
 each side), every variant in turn, so a run stopped at any time leaves a table in
@@ -98,19 +99,26 @@ def write_plot(path: Path, rows: list[dict], title: str) -> None:
     write_bytes(path, buf.getvalue())
 
 
-def rank_agreement(rows: list[dict]) -> dict | None:
+def rank_agreement(rows: list[dict], draws: int = 2000, seed: int = 0) -> dict | None:
     """Spearman's rank correlation of our means with the paper's, over the variants in
-    both with a mean (None for fewer than three); +1 is the paper's order."""
-    pairs = [(r["mean"], PAPER_TABLE2[r["variant"]][0]) for r in rows
+    both with a mean (None for fewer than three); +1 is the paper's order. With it, the
+    95% interval of rho over `draws` redraws of our means from their standard errors
+    (normal, seeded): how far our games alone could move it."""
+    pairs = [(r["mean"], r.get("se") or 0.0, PAPER_TABLE2[r["variant"]][0]) for r in rows
              if r["variant"] in PAPER_TABLE2 and r["mean"] is not None]
     if len(pairs) < 3:
         return None
     from scipy.stats import spearmanr
 
-    res = spearmanr([a for a, _ in pairs], [b for _, b in pairs])
+    ours, se, paper = (np.array(c, dtype=float) for c in zip(*pairs))
+    res = spearmanr(ours, paper)
     rho, p = float(res.statistic), float(res.pvalue)
+    redrawn = ours + se * np.random.default_rng(seed).standard_normal((draws, len(ours)))
+    rhos = np.array([spearmanr(d, paper).statistic for d in redrawn], dtype=float)
+    rhos = rhos[np.isfinite(rhos)]
+    low, high = (round(float(q), 3) for q in np.percentile(rhos, (2.5, 97.5))) if len(rhos) else (None, None)
     return {"variants": len(pairs), "spearman_rho": None if math.isnan(rho) else round(rho, 3),
-            "p": None if math.isnan(p) else round(p, 4)}
+            "p": None if math.isnan(p) else round(p, 4), "rho_95": [low, high]}
 
 
 class SharedPool:
@@ -226,8 +234,10 @@ def agreement_line(rows: list[dict]) -> str | None:
     agree = rank_agreement(rows)
     if agree is None:
         return None
+    low, high = agree["rho_95"]
     return (f"Spearman rank correlation with the paper's column over {agree['variants']} variants: "
-            f"rho {agree['spearman_rho']}, p {agree['p']}")
+            f"rho {agree['spearman_rho']}, p {agree['p']} (95% interval {low} .. {high} over our means "
+            f"redrawn from their standard errors)")
 
 
 def write_outputs(out: Path, rows: list[dict], head: str) -> None:

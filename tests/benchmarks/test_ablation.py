@@ -62,15 +62,21 @@ def test_rank_agreement_is_spearman_over_the_papers_variants():
     reversed_ = [row(n, -m) for n, (m, _) in ablation.PAPER_TABLE2.items()]
     assert ablation.rank_agreement(reversed_)["spearman_rho"] == -1.0
     assert ablation.rank_agreement(same[:2]) is None
+    # with no standard error a redraw changes nothing; with a large one rho could be anything
+    assert ablation.rank_agreement(same)["rho_95"] == [1.0, 1.0]
+    noisy = [dict(r, se=10.0) for r in same]
+    low, high = ablation.rank_agreement(noisy)["rho_95"]
+    assert low < 0 < high
 
 
 def test_table_file_gives_the_rank_correlation_with_the_paper(tmp_path):
-    rows = [{"variant": n, "n": 1, "mean": -m, "se": 0.1, "wins": 0, "draws": 1, "losses": 0}
+    rows = [{"variant": n, "n": 1, "mean": -m, "se": 0.0, "wins": 0, "draws": 1, "losses": 0}
             for n, (m, _) in ablation.PAPER_TABLE2.items()]
     ablation.write_outputs(tmp_path, rows, "head")
     md = (tmp_path / "table.md").read_text()
     assert md.startswith("head\n") and md.rstrip().endswith(
-        f"over {len(rows)} variants: rho -1.0, p 0.0")
+        f"over {len(rows)} variants: rho -1.0, p 0.0 (95% interval -1.0 .. -1.0 over our means "
+        "redrawn from their standard errors)")
     ablation.write_outputs(tmp_path, rows[:2], "head")  # too few to rank: no line
     assert "Spearman" not in (tmp_path / "table.md").read_text()
 
