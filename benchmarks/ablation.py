@@ -229,9 +229,8 @@ def report(out: Path, names: list[str] | None = None) -> list[dict]:
     return rows
 
 
-def agreement_line(rows: list[dict]) -> str | None:
-    """The rank correlation with the paper's column as a sentence (None: too few variants)."""
-    agree = rank_agreement(rows)
+def agreement_line(agree: dict | None) -> str | None:
+    """`rank_agreement`'s answer as a sentence (None: too few variants)."""
     if agree is None:
         return None
     low, high = agree["rho_95"]
@@ -244,7 +243,7 @@ def write_outputs(out: Path, rows: list[dict], head: str) -> None:
     """OUT/ablation.jsonl (one row a variant), OUT/table.md (the table under `head`, with the
     rank correlation with the paper's column below it) and OUT/ablation.png."""
     write_text(out / "ablation.jsonl", "".join(json.dumps(r) + "\n" for r in rows))
-    agree = agreement_line(rows)
+    agree = agreement_line(rank_agreement(rows))
     write_text(out / "table.md", head + "\n\n" + table(rows) + "\n" + (f"\n{agree}\n" if agree else ""))
     write_plot(out / "ablation.png", rows, head)
 
@@ -286,7 +285,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"benchmarks.ablation: error: {exc}", file=sys.stderr)
             return 2
         print(table(rows))
-        agree = agreement_line(rows)
+        agree = agreement_line(rank_agreement(rows))
         if agree:
             print(f"\n{agree}")
         return 0
@@ -307,7 +306,7 @@ def main(argv: list[str] | None = None) -> int:
     print(header(args.games, args.half_time, args.size, args.seed))
     print(table(rows))
     if agree is not None:
-        print(f"\n{agreement_line(rows)}")
+        print(f"\n{agreement_line(agree)}")
     return 0
 
 
