@@ -203,11 +203,12 @@ def run(names: list[str], games: int, half_time: float, size: int, seed: int, wo
     return [rows[n] for n in names]
 
 
-def report(out: Path, names: list[str] | None = None) -> list[dict]:
+def report(out: Path, names: list[str] | None = None) -> tuple[list[dict], str | None]:
     """The rows of the games already in OUT (every game each variant has, so the
     counts may differ by a round), without playing, each variant's settings read
     from its batch.json; table.md, ablation.jsonl and ablation.png rewritten.
-    names: the variants to show (default all), those with games in OUT."""
+    names: the variants to show (default all), those with games in OUT. Returns the rows
+    and the rank correlation's sentence."""
     names = [n for n in (VARIANTS if names is None else names) if (out / n / GAMES).exists()]
     if not names:
         raise BatchError(f"{out} holds no variant's {GAMES}")
@@ -225,8 +226,7 @@ def report(out: Path, names: list[str] | None = None) -> list[dict]:
                                 settings.home_size, 0.0))
     n = min(r["n"] for r in rows)
     head = header(n, settings.half_time, settings.home_size, settings.seed) + " (at least; see each count)"
-    write_outputs(out, rows, head)
-    return rows
+    return rows, write_outputs(out, rows, head)
 
 
 def agreement_line(agree: dict | None) -> str | None:
@@ -239,13 +239,14 @@ def agreement_line(agree: dict | None) -> str | None:
             f"redrawn from their standard errors)")
 
 
-def write_outputs(out: Path, rows: list[dict], head: str) -> None:
+def write_outputs(out: Path, rows: list[dict], head: str) -> str | None:
     """OUT/ablation.jsonl (one row a variant), OUT/table.md (the table under `head`, with the
-    rank correlation with the paper's column below it) and OUT/ablation.png."""
+    rank correlation with the paper's column below it) and OUT/ablation.png; that sentence."""
     write_text(out / "ablation.jsonl", "".join(json.dumps(r) + "\n" for r in rows))
     agree = agreement_line(rank_agreement(rows))
     write_text(out / "table.md", head + "\n\n" + table(rows) + "\n" + (f"\n{agree}\n" if agree else ""))
     write_plot(out / "ablation.png", rows, head)
+    return agree
 
 
 def header(games: int, half_time: float, size: int, seed: int) -> str:
@@ -280,12 +281,11 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     if args.report:
         try:
-            rows = report(args.out, names if args.variants != ",".join(VARIANTS) else None)
+            rows, agree = report(args.out, names if args.variants != ",".join(VARIANTS) else None)
         except BatchError as exc:
             print(f"benchmarks.ablation: error: {exc}", file=sys.stderr)
             return 2
         print(table(rows))
-        agree = agreement_line(rank_agreement(rows))
         if agree:
             print(f"\n{agree}")
         return 0
