@@ -55,20 +55,22 @@ from optimization.trials import first_touch
 
 
 def touch_stats(robot_type: int, config: TeamConfig, tries: int, seed: int = 0, seconds: float = 12.0,
-                near: float = 1.0, far: float = 2.0) -> dict:
+                near: float = 1.0, far: float = 2.0, roll: float = 0.0) -> dict:
     """`tries` trials (`optimization.trials.first_touch`) of one type, try k from seed + k,
-    and their figures."""
+    and their figures; the ball rolling off at `roll` m/s in a random direction."""
     rows = []
     for k in range(tries):  # try k: the ball in the field's middle, the player at a random bearing
         rng = np.random.default_rng(seed + k)
         ball = rng.uniform((-3.0, -2.0), (3.0, 2.0))
         bearing, distance = rng.uniform(-math.pi, math.pi), rng.uniform(near, far)
+        heading = rng.uniform(-math.pi, math.pi)  # drawn last: the still ball's tries stay as they were
+        velocity = (roll * math.cos(heading), roll * math.sin(heading)) if roll > 0 else (0.0, 0.0)
         rows.append(first_touch(robot_type, config, seed + k, (float(ball[0]), float(ball[1])), bearing,
-                                distance, seconds))
+                                distance, seconds, velocity))
     # a try without a touch counts as the whole run for the median and percentile
     times = np.array([r.touch if r.touch is not None else seconds for r in rows])
     return {
-        "type": robot_type, "tries": tries,
+        "type": robot_type, "tries": tries, "roll_m_s": roll,
         "touch_median_s": round(float(np.median(times)), 2),
         "touch_p90_s": round(float(np.percentile(times, 90)), 2),
         "no_touch": sum(r.touch is None for r in rows),
@@ -86,18 +88,20 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, default=12.0, help="s of play a try (default 12)")
     ap.add_argument("--near", type=float, default=1.0, help="nearest start from the ball, m (default 1)")
     ap.add_argument("--far", type=float, default=2.0, help="farthest start from the ball, m (default 2)")
+    ap.add_argument("--roll", type=float, default=0.0,
+                    help="the ball rolls off at this speed (m/s) in a random direction (default 0: still)")
     args = ap.parse_args(argv)
     types = robot_types(ap, args.types)
-    if args.tries < 1 or args.seconds <= 0 or not 0.3 <= args.near <= args.far:
-        ap.error(f"need --tries >= 1, --seconds > 0 and 0.3 <= --near <= --far (got {args.tries}, "
-                 f"{args.seconds}, {args.near}, {args.far})")
+    if args.tries < 1 or args.seconds <= 0 or not 0.3 <= args.near <= args.far or not 0 <= args.roll <= 5:
+        ap.error(f"need --tries >= 1, --seconds > 0, 0.3 <= --near <= --far and 0 <= --roll <= 5 (got "
+                 f"{args.tries}, {args.seconds}, {args.near}, {args.far}, {args.roll})")
     try:
         name = variant_name(args.variant) if args.variant else "villa"
         config = variant(name) if args.variant else VILLA
     except UnknownVariant as e:
         ap.error(str(e))
     for t in types:
-        row = touch_stats(t, config, args.tries, args.seed, args.seconds, args.near, args.far)
+        row = touch_stats(t, config, args.tries, args.seed, args.seconds, args.near, args.far, args.roll)
         print(json.dumps({"benchmark": "firsttouch", "team": name, **row}), flush=True)
     print(json.dumps({"machine": machine()}), file=sys.stderr)
     return 0

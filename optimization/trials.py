@@ -280,11 +280,14 @@ class FirstTouch:
 
 
 def first_touch(robot_type: int, config: TeamConfig, seed: int, ball: tuple[float, float], bearing: float,
-                distance: float, seconds: float = 12.0) -> FirstTouch:
+                distance: float, seconds: float = 12.0,
+                roll: tuple[float, float] = (0.0, 0.0)) -> FirstTouch:
     """Play on with a free ball at `ball` (field frame, m) and the left team's player 2
     (`robot_type`, playing `config`) standing `distance` m from it at `bearing` (rad, from
     the ball), facing it: it does what the team does with a free ball, from its percepts.
-    Their goalie stands out of the way."""
+    Their goalie stands out of the way. A ball given a `roll` velocity (m/s, field frame)
+    is touched when the player first touches it (the referee's count), a still one when
+    it has moved TOUCH m."""
     m = Match(VillaFactory(config), PostureAgent, Lineup((0, robot_type), (0,)), half_time=300, seed=seed)
     for _ in range(60):  # the beams and the first settling
         m.step()
@@ -294,10 +297,54 @@ def first_touch(robot_type: int, config: TeamConfig, seed: int, ball: tuple[floa
     place_player(m, w.player("L", 2), x, y, wrap(bearing + math.pi))
     w.place_robot(w.player("R", 1), 14.5, 9.0, math.pi)
     w.place_ball((float(b[0]), float(b[1])))
+    rolls, touches = roll != (0.0, 0.0), m.referee.touches["L"]
+    if rolls:
+        w.set_ball_velocity((float(roll[0]), float(roll[1]), 0.0))
     m.referee.set_play_mode(PlayMode.PLAY_ON)
     touch = None
     for k in range(round(seconds / CYCLE)):
         m.step()
-        if touch is None and float(np.hypot(*(w.ball_position()[:2] - b))) > TOUCH:
+        if touch is None and (m.referee.touches["L"] > touches if rolls
+                              else float(np.hypot(*(w.ball_position()[:2] - b))) > TOUCH):
             touch = round((k + 1) * CYCLE, 6)
     return FirstTouch(touch, float(w.ball_position()[0] - b[0]), int(m.referee.falls["L"]))
+
+
+@dataclass(frozen=True)
+class Duel:
+    """One duel for a free ball: how far it went toward the left team's attacking goal
+    (m, +x of the field), the share of the time each side last touched it (possession,
+    s), which side touched it first (None: neither) and each side's falls."""
+
+    progress: float
+    possession: dict[str, float]
+    first: str | None
+    falls: dict[str, int]
+
+
+def duel(left: TeamConfig, right: TeamConfig, robot_type: int, seed: int, ball: tuple[float, float],
+         starts: tuple[tuple[float, float], tuple[float, float]], seconds: float = 20.0) -> Duel:
+    """Play on for `seconds` with a free ball at `ball` (field frame, m) and one field
+    player a side (`robot_type`), the left one playing `left` and the right one `right`,
+    each standing at its `starts` (field frame, m) facing the ball: both do what their
+    team does with a free ball, from their percepts. The goalies stay in their goals."""
+    m = Match(VillaFactory(left), VillaFactory(right), Lineup((0, robot_type), (0, robot_type)),
+              half_time=300, seed=seed)
+    while m.referee.mode == PlayMode.BEFORE_KICK_OFF:  # the beams and the first settling, ...
+        m.step()  # ... ended before any player sees the kickoff (its taker would plan it)
+    w = m.world
+    b = np.array(ball, dtype=float)
+    for side, (x, y) in zip("LR", starts):
+        place_player(m, w.player(side, 2), x, y, math.atan2(b[1] - y, b[0] - x))
+    w.place_ball((float(b[0]), float(b[1])))
+    ref = m.referee
+    ref.set_play_mode(PlayMode.PLAY_ON)
+    held, falls, touches = dict(ref.possession), dict(ref.falls), dict(ref.touches)
+    first = None
+    for _ in range(round(seconds / CYCLE)):
+        m.step()
+        if first is None:
+            first = next((s for s in "LR" if ref.touches[s] > touches[s]), None)
+    return Duel(float(w.ball_position()[0] - b[0]),
+                {s: round(ref.possession[s] - held[s], 6) for s in "LR"}, first,
+                {s: ref.falls[s] - falls[s] for s in "LR"})

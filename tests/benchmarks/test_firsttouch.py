@@ -27,3 +27,9 @@ def test_cli_errors(capsys):
     with pytest.raises(SystemExit):
         firsttouch.main(["--near", "2", "--far", "1"])
     assert "--near <= --far" in capsys.readouterr().err
+
+
+def test_a_rolling_ball_is_touched_when_the_player_touches_it_not_when_it_moves():
+    row = firsttouch.touch_stats(0, VILLA, tries=1, seed=0, seconds=6.0, roll=0.8)
+    assert row["roll_m_s"] == 0.8 and row["falls"] == 0
+    assert row["touch_median_s"] > 1.0  # the ball moved 5 cm within 0.1 s
