@@ -105,6 +105,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # Lines a dribble up without stopping: round the ball walking forward, then into its line
     # facing along it (issue 47: a quicker first touch; benchmarks.firsttouch): villa itself.
     "Funnel": TeamConfig(dribble_funnel=True),
+    # The go-to-target walk's step size following the request with gain 0.06 a cycle, every
+    # type (issue 47: a walk from the stand at speed in a third of a second; walk_quick.txt).
+    "QuickStart": TeamConfig(walk_files=("walk_quick.txt",)),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and
