@@ -22,7 +22,8 @@ name (see soccer match --help) or package.module:factory, a callable
 (side, unum, robot_type, seed) -> agent.
 
 DIR/games.jsonl gets one JSON line per finished game (score, goal difference from
-A's side, goals, events by kind, falls, possession, touches, times, version);
+A's side, goals, events by kind, falls, possession, touches, territory: the ball's mean
+x in play toward B's goal in m, times, version);
 DIR/summary.json the summary printed at the end. A killed batch continues with
 the same command and --resume, playing only the missing games. A game that
 fails is an error row (its seed and the error) and the batch goes on.
@@ -171,6 +172,12 @@ def format_summary(s: dict) -> str:
     lines.append(text)
     lines.append(f"A wins {s['wins']}, draws {s['draws']}, losses {s['losses']};"
                  f" goals {s['goals_for']} : {s['goals_against']}")
+    ter = s.get("territory") or {}
+    if ter.get("mean") is not None:
+        text = f"territory A (the ball's mean x in play toward B's goal): {ter['mean']:+.2f} m"
+        if ter.get("se") is not None:
+            text += f" +- {ter['se']:.2f}"
+        lines.append(text)
     lines.append(f"{'':16s}{'falls/game':>12s}{'possession':>12s}{'crashes':>9s}")
     for t, name in (("A", a), ("B", b)):
         falls, pos = s["falls"][t], s["possession"][t]

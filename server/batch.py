@@ -202,6 +202,8 @@ def game_row(result: dict, a_side: str) -> dict:
         "falls": {"A": stats[a_side]["falls"], "B": stats[b_side]["falls"]},
         "possession": {"A": stats[a_side]["possession_share"], "B": stats[b_side]["possession_share"]},
         "touches": {"A": stats[a_side]["ball_touches"], "B": stats[b_side]["ball_touches"]},
+        # the ball's mean x in play toward B's goal (m); older results have none
+        **({"territory": stats[a_side]["territory"]} if "territory" in stats[a_side] else {}),
         "wall_time": result["wall_time"], "game_time": result["game_time"],
     }
 
@@ -312,6 +314,7 @@ def summarize(settings: BatchSettings, rows: Sequence[dict]) -> dict:
             s: mean([r["goal_difference"] for r in ok if r["a_side"] == s]) for s in ("L", "R")},
         "falls": {t: mean([r["falls"][t] for r in ok]) for t in ("A", "B")},
         "possession": {t: mean([r["possession"][t] for r in ok]) for t in ("A", "B")},
+        "territory": rounded(describe(r["territory"] for r in ok if "territory" in r)),
         "agent_crashes": {t: sum(c["team"] == t for r in ok for c in r.get("crashes", ())) for t in "AB"},
     }
 

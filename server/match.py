@@ -321,6 +321,7 @@ class Match:
                 "possession_share": round(ref.possession[team] / total_possession, 3),
                 "ball_touches": ref.touches[team],
                 "falls": ref.falls[team],
+                "territory": round(ref.territory(team), 3),
             }
         return MatchResult(
             score=dict(ref.score), events=[e.to_dict() for e in ref.events], stats=stats,

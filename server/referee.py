@@ -82,6 +82,8 @@ class Referee:
         self.fallen = np.zeros(n, dtype=bool)
         self.area_since = np.full(n, np.nan)
         self.possession = {"L": 0.0, "R": 0.0}
+        self.play_on_time = 0.0  # s of play on ...
+        self.ball_x_time = 0.0  # ... and the ball's field x integrated over it (m s): territory
         self.touches = {"L": 0, "R": 0}
         self.falls = {"L": 0, "R": 0}
         self.is_goalie = world.unum_of == GOALIE
@@ -177,9 +179,17 @@ class Referee:
             self._keep_away()
         if self.mode == PM.PLAY_ON:
             self._illegal_defense()
+            self.play_on_time += CYCLE
+            self.ball_x_time += float(self.world.ball_position()[0]) * CYCLE
             if self.last_touch is not None:
                 self.possession[self._team(self.last_touch)] += CYCLE
         self._fallen()
+
+    def territory(self, team: str) -> float:
+        """The ball's mean field x over play on, toward `team`'s attacking goal (m; the
+        left team attacks +x): how far into the opponents' half play was, on average."""
+        x = self.ball_x_time / self.play_on_time if self.play_on_time else 0.0
+        return x if team == "L" else -x
 
     def _touch(self, i: int) -> None:
         team = self._team(i)

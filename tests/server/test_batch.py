@@ -77,7 +77,7 @@ def test_seeds_and_alternating_sides(tmp_path):
         (0, 5, "L"), (1, 6, "R"), (2, 7, "L"), (3, 8, "R")]
     r = rows[0]
     assert r["teams"] == {"A": "posture", "B": "posture"} and r["game_time"] == pytest.approx(0.4, abs=0.03)
-    assert {"score", "goal_difference", "goals", "events", "falls", "possession", "touches",
+    assert {"score", "goal_difference", "goals", "events", "falls", "possession", "touches", "territory",
             "wall_time", "version"} <= set(r)
     assert summary["games"] == 4 and summary["errors"] == 0
     assert summary["wins"] + summary["draws"] + summary["losses"] == 4
@@ -93,8 +93,10 @@ def test_game_row_seen_from_team_a():
         "stats": {s: {"falls": f, "possession_share": 0.5, "ball_touches": 9}
                   for s, f in (("L", 4), ("R", 6))},
     }
+    result["stats"]["L"]["territory"], result["stats"]["R"]["territory"] = -1.5, 1.5
     row = game_row(result, "R")  # team A played right
     assert row["score"] == {"A": 2, "B": 1} and row["goal_difference"] == 1
+    assert row["territory"] == 1.5
     assert row["goals"] == {"A": 2, "B": 1} and row["falls"] == {"A": 6, "B": 4}
     assert [(g["team"], g["time"], g["player"]) for g in row["goal_times"]] == [
         ("A", 12.5, 7), ("B", 40.0, None), ("A", 599.0, 3)]
@@ -140,7 +142,8 @@ def test_summary_counts():
     s = BatchSettings("a", "b", 1.0)
     rows = [{"game": i, "seed": i, "a_side": "L" if i % 2 == 0 else "R", "goal_difference": gd,
              "score": {"A": max(gd, 0), "B": max(-gd, 0)}, "falls": {"A": 1, "B": 0},
-             "possession": {"A": 0.5, "B": 0.5}} for i, gd in enumerate([1, 0, -2, 3])]
+             "possession": {"A": 0.5, "B": 0.5}, **({"territory": 0.5 * i} if i else {})}
+            for i, gd in enumerate([1, 0, -2, 3])]
     rows.append({"game": 4, "seed": 4, "a_side": "L", "error": "boom"})
     out = summarize(s, rows[::-1])
     assert (out["wins"], out["draws"], out["losses"]) == (2, 1, 1)
@@ -148,3 +151,4 @@ def test_summary_counts():
     assert out["goal_difference"]["mean"] == 0.5 and out["errors"] == 1
     assert math.isclose(out["goal_difference"]["se"], np.std([1, 0, -2, 3], ddof=1) / 2, rel_tol=1e-5)
     assert out["goal_difference_by_a_side"] == {"L": -0.5, "R": 1.5}
+    assert out["territory"]["n"] == 3 and out["territory"]["mean"] == 1.0  # game 0 has none

@@ -232,3 +232,18 @@ def test_a_dropped_kickoff_ball_may_be_scored_by_anyone():
     m.world.set_ball_velocity((6.0, 0.0, 0.0))
     run(m, 2.0)
     assert m.referee.score["L"] == 1 and "no_goal" not in kinds(m)
+
+
+def test_territory_is_the_balls_mean_x_in_play_toward_each_teams_attacking_goal():
+    m = standing_match()
+    far_away(m)
+    m.world.place_ball((4.0, 2.0))
+    m.referee.set_play_mode(PlayMode.PLAY_ON)
+    run(m, 1.0)
+    m.world.place_ball((-2.0, 2.0))
+    run(m, 3.0)  # 1 s at x = 4, then 3 s at x = -2: mean -0.5
+    assert m.referee.play_on_time == pytest.approx(4.0, abs=0.03)
+    assert m.referee.territory("L") == pytest.approx(-0.5, abs=0.05)
+    assert m.referee.territory("R") == -m.referee.territory("L")
+    stats = m.result(1.0).stats
+    assert stats["L"]["territory"] == pytest.approx(-0.5, abs=0.05)
