@@ -35,8 +35,15 @@ villa:NoFunnel -> villa:Funnel, villa since (the dribble lined up without stoppi
 5.92, 5.50, 5.86 s; 90th percentile 11.8, 9.7, 10.9, 10.6, 10.3 -> 6.9, 7.0, 7.1, 6.6,
 7.4 s; tries without a touch 8 -> 0 of 160; falls 0 -> 0; progress 1.66 -> 1.65 m.
 
+`--roll M/S` rolls the ball off at that speed in a random direction as play starts; the
+touch is then the referee's (the player touched the ball), not 5 cm of movement. villa,
+`--roll 1 --near 1.5 --far 3`, 16 tries (December 6, 2026): types 0 and 2 median 11.4 and
+11.2 s, 7 of 16 tries each without a touch in 12 s: the ball rolls 2.6 m and the walk
+from the stand closes on it at about 0.3 m/s.
+
     python -m benchmarks.firsttouch [--types 0,1,2,3,4] [--tries 16] [--seed 0]
                                     [--variant NAME] [--seconds 12] [--near 1] [--far 2]
+                                    [--roll 0]
 """
 
 from __future__ import annotations
