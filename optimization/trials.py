@@ -313,7 +313,7 @@ def first_touch(robot_type: int, config: TeamConfig, seed: int, ball: tuple[floa
 @dataclass(frozen=True)
 class Duel:
     """One duel for a free ball: how far it went toward the left team's attacking goal
-    (m, +x of the field), the share of the time each side last touched it (possession,
+    (m, +x of the field), the time each side was the last to have touched it (possession,
     s), which side touched it first (None: neither) and each side's falls."""
 
     progress: float
