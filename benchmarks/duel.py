@@ -43,24 +43,23 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 from scipy import stats
 
-from agent.teamconfig import VILLA, TeamConfig, UnknownVariant, variant, variant_name
+from agent.teamconfig import TeamConfig
+from agent.variants import VillaFactory
 from benchmarks.args import robot_types
 from benchmarks.machine import machine
+from cli.teams import UnknownTeam, factory
 from optimization.trials import Duel, duel
 
 
 def team(ap: argparse.ArgumentParser, spec: str) -> tuple[str, TeamConfig]:
-    """(name, config) of "villa" or "villa:NAME"; a usage error naming the spec otherwise."""
-    head, sep, tail = spec.partition(":")
-    if head.strip().lower() != "villa":
-        ap.error(f"duels are between villa variants (villa or villa:NAME), got {spec!r}")
-    if not sep:
-        return "villa", VILLA
+    """(name, config) of "villa" or "villa:NAME" (`cli.teams`); a usage error naming the spec otherwise."""
     try:
-        name = variant_name(tail)
-    except UnknownVariant as e:
+        f = factory(spec)
+    except UnknownTeam as e:
         ap.error(str(e))
-    return f"villa:{name}", variant(name)
+    if not isinstance(f, VillaFactory):
+        ap.error(f"duels are between villa variants (villa or villa:NAME), got {spec!r}")
+    return f.name, f.config
 
 
 def pair(a: TeamConfig, b: TeamConfig, types: tuple[int, ...], seed: int,

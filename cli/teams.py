@@ -18,8 +18,8 @@ def _posture() -> Callable:
 
 
 def _villa() -> Callable:
-    from agent.player import villa
-    return villa
+    from agent.variants import VillaFactory
+    return VillaFactory()  # the villa config, as `agent.player.villa`
 
 
 TEAMS: dict[str, Callable[[], Callable]] = {"posture": _posture, "villa": _villa}
