@@ -21,7 +21,6 @@ import numpy as np
 from agent.head import HeadController
 from agent.kicker import ALIGN, DONE, KICK, LEAN, Kicker
 from agent.requests import Dive, Dribble, Kick, SkillRequest, Stand, WalkTo
-from agent.strategy import avoid
 from agent.worldmodel import WorldModel
 from models.geometry import Pose2, wrap
 from models.messages import Percept
@@ -47,8 +46,6 @@ FUNNEL_NEAR = 0.15  # ... but no nearer the ball than this (m behind it)
 FUNNEL_BRAKE = 0.25  # m: walk_toward's braking radius walking into the line ...
 ORBIT_LEAD = math.radians(50.0)  # rad: rounding the ball, walk toward the circle this far on ...
 ORBIT_BRAKE = 0.05  # m ... without slowing
-AVOID_PROXIMITY, AVOID_COLLISION = 0.8, 0.45  # m: D.1.2's radii round opponents lining a dribble up
-AVOID_MEMORY = 1.0  # s since an opponent was last seen for it to count
 KICK_BEHIND = 0.5  # m behind the ball where the walk hands a kick over to the kicker
 HANDOVER = 0.9  # m from the ball: the kicker (approach, align, kick) takes over
 RELEASE = 1.6  # m: the ball got this far away during the approach: walk again
@@ -69,13 +66,10 @@ class Body:
 
     def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None,
                  walk_sets: Mapping[str, WalkParams] | None = None, kick_params: Sequence[Path] = (),
-                 dribble_set: str = "go_to_target", funnel: bool = False,
-                 orbit_brake_behind: float = ORBIT_BRAKE, avoid: bool = False) -> None:
+                 dribble_set: str = "go_to_target", funnel: bool = False) -> None:
         self.robot_type = robot_type
         self.dribble_set = dribble_set
         self.funnel = funnel
-        self.orbit_brake_behind = orbit_brake_behind
-        self.avoid = avoid  # lining a dribble up, walk round opponents (`_round_opponents`)
         self.sprint_within = None if sprint_within is None else math.radians(sprint_within)
         self.kicks = all_kicks(robot_type, keyframe_params=list(kick_params))
         if kick_box != 1.0:  # a wider box to stop in: fewer aligns, a less exact kick
@@ -313,28 +307,10 @@ class Body:
         if not self._funneling:
             a = phi + math.copysign(min(abs(delta), ORBIT_LEAD), delta)
             via = ball + BALL_ROUND * np.array([math.cos(a), math.sin(a)])
-            brake = ORBIT_BRAKE
-            if self.orbit_brake_behind != ORBIT_BRAKE:
-                dx, _ = Pose2(*world.pose.tolist()).to_local(float(via[0]), float(via[1]))
-                brake = self.orbit_brake_behind if dx < 0.0 else ORBIT_BRAKE
-            vx, vy = self._round_opponents(world, float(via[0]), float(via[1]))
-            return self._walk_to(percept, world, vx, vy, None, brake=brake)
+            return self._walk_to(percept, world, float(via[0]), float(via[1]), None, brake=ORBIT_BRAKE)
         point = ball + min(along + FUNNEL_LEAD, -FUNNEL_NEAR) * u
-        px, py = self._round_opponents(world, float(point[0]), float(point[1]))
-        return self._walk_to(percept, world, px, py, math.atan2(u[1], u[0]), brake=FUNNEL_BRAKE)
-
-    def _round_opponents(self, world: WorldModel, tx: float, ty: float) -> tuple[float, float]:
-        """(tx, ty) (team frame, m), or with `avoid` the point to walk toward instead to pass
-        round an opponent seen within the last AVOID_MEMORY s in the way (D.1.2 with the
-        on-ball player's smaller radii): walking into one was what felled players in duels."""
-        if not self.avoid:
-            return tx, ty
-        now = world.time
-        seen = [o.position[:2] for o in world.opponents if o.known and now - o.last_seen < AVOID_MEMORY]
-        if not seen:
-            return tx, ty
-        p = avoid(world.pose[:2], (tx, ty), np.array(seen), AVOID_PROXIMITY, AVOID_COLLISION)
-        return float(p[0]), float(p[1])
+        return self._walk_to(percept, world, float(point[0]), float(point[1]), math.atan2(u[1], u[0]),
+                             brake=FUNNEL_BRAKE)
 
 
 def _unit(v: np.ndarray) -> np.ndarray:

@@ -94,7 +94,7 @@ class Player:
                          config.sprint_within if robot_type in config.sprint_types else None,
                          _walk_sets(config.walk_files, robot_type),
                          _type_files(config.kick_files, robot_type), config.dribble_set,
-                         config.dribble_funnel, config.orbit_brake_behind, config.dribble_avoid)
+                         config.dribble_funnel)
         self.formation = _formation(config.formation)
         self.votes = VoteWindow(TEAM_SIZE)
         self.vote: tuple[int, ...] | None = None  # this player's own role mapping
@@ -205,8 +205,7 @@ class Player:
     def _targets(self, view: st.TeamView) -> np.ndarray:
         """(10, 2) positions of FIELD_ROLES: the formation's, with marking positions in
         place of some roles when opponents threaten our goal (chapter 7.3)."""
-        targets = st.role_positions(self.formation, view.ball, self.config.formation_shift,
-                                     self.config.support_distance)
+        targets = st.role_positions(self.formation, view.ball, self.config.formation_shift)
         if not self.config.marking or len(view.opponents) == 0:
             return targets
         marked = self._marked
@@ -266,7 +265,7 @@ class Player:
             self._race = lead is None or st.opponent_may_reach_first(view, lead)
         cone = cfg.dribble_cone if self._race else 0.0  # free: straight at the goal
         if dribble and view.mode == PM.PLAY_ON:
-            return Dribble(tuple(self._dribble_target(view, cone)))
+            return Dribble(tuple(st.dribble_target(view, cone)))
         reach = max(self.distances)
         shot = st.shot_target(ball, view.opponents, reach)
         if shot is not None:
@@ -274,16 +273,11 @@ class Player:
             names = tuple(n for n, k in self.body.kicks.items() if k.spec.distance >= need)
             return Kick((float(shot[0]), float(shot[1])), names)
         if not cfg.passes and cfg.dribble and view.mode == PM.PLAY_ON:
-            return Dribble(tuple(self._dribble_target(view, cone)))
+            return Dribble(tuple(st.dribble_target(view, cone)))
         mates = np.array([(m.x, m.y) for m in view.mates]).reshape(-1, 2)
         target, dist = st.pass_target(ball, self.distances, view.opponents, mates)
         names = tuple(n for n, k in self.body.kicks.items() if abs(k.spec.distance - dist) < 0.15)
         return Kick((float(target[0]), float(target[1])), names)
-
-    def _dribble_target(self, view: st.TeamView, cone: float) -> np.ndarray:
-        target = st.dribble_target(view, cone)
-        return st.evade_target(view.ball, target, view.opponents, view.opponents_fallen,
-                               self.config.dribble_evade)
 
     def _kickoff(self, view: st.TeamView) -> SkillRequest:
         """Our kickoff: a short pass to the side the fewest opponents guard (D.2.3)."""

@@ -48,8 +48,6 @@ MIN_SHOT_ANGLE = math.radians(8.0)  # rad: the goal mouth must look at least thi
 CONE_SHARE = 0.6
 CONE_AHEAD = 2.0
 CONE_FADE = (2.0, 5.0)
-EVADE_REACH = 1.5  # m ahead of the ball along the dribble's line: an opponent there is in the way ...
-EVADE_LANE = 0.5  # m ... within this either side of it
 
 
 @dataclass(frozen=True)
@@ -135,16 +133,11 @@ def on_ball_player(view: TeamView, exclude: int | None = None) -> int | None:
 
 # ------------------------------------------------------------------ role assignment
 
-def role_positions(formation: Formation, ball: np.ndarray, shift: float = 0.0,
-                   support: float | None = None) -> np.ndarray:
-    """(10, 2) positions of FIELD_ROLES for a ball position (the formation's lookup); with
-    `support` (m), the supporter stands that far from the ball on its line to our goal."""
+def role_positions(formation: Formation, ball: np.ndarray, shift: float = 0.0) -> np.ndarray:
+    """(10, 2) positions of FIELD_ROLES for a ball position (the formation's lookup)."""
     out = formation.rows_at(formation.indices(FIELD_ROLES), ball)
     if shift:
         out[1:, 0] = np.clip(out[1:, 0] + shift, -fld.HALF_LENGTH + 0.5, fld.HALF_LENGTH - 0.5)
-    if support is not None:
-        back = OWN_GOAL - np.asarray(ball, dtype=float)
-        out[1] = ball + support * back / max(float(np.hypot(*back)), 1e-9)
     return out
 
 
@@ -480,36 +473,6 @@ def approach_target(ball: np.ndarray, goal: np.ndarray, me: Sequence[float], con
     t = b + CONE_AHEAD * np.array([math.cos(heading + turn), math.sin(heading + turn)])
     if abs(t[0]) > fld.HALF_LENGTH - 0.3 or abs(t[1]) > fld.HALF_WIDTH - 0.3:
         return np.asarray(goal, dtype=float)
-    return t
-
-
-def evade_target(ball: np.ndarray, target: np.ndarray, opponents: np.ndarray, fallen: np.ndarray,
-                 angle: float) -> np.ndarray:
-    """A dribble target (team frame, m) turned by `angle` (rad) off the line from `ball` to
-    `target`, away from the nearest upright opponent standing in that line within
-    EVADE_REACH ahead, so that the push goes past it instead of into it; `target` when
-    nobody is in the way, or when both turned lines would leave the field within
-    CONE_AHEAD m. The turn fades out near the opponents' goal as the cone's does."""
-    b = np.asarray(ball, dtype=float)
-    t = np.asarray(target, dtype=float)
-    if len(opponents) == 0 or angle <= 0.0:
-        return t
-    u = (t - b) / max(float(np.hypot(*(t - b))), 1e-9)
-    rel = np.asarray(opponents, dtype=float) - b
-    along = rel @ u
-    across = u[0] * rel[:, 1] - u[1] * rel[:, 0]
-    block = (along > 0.0) & (along < EVADE_REACH) & (np.abs(across) < EVADE_LANE) & ~np.asarray(fallen)
-    if not block.any():
-        return t
-    near, far = CONE_FADE
-    turn = angle * min(max((float(np.hypot(*(OPP_GOAL - b))) - near) / (far - near), 0.0), 1.0)
-    k = int(np.argmin(np.where(block, along, np.inf)))
-    away = -1.0 if across[k] > 0.0 else 1.0  # turn to the side the opponent is not on
-    heading = math.atan2(u[1], u[0])
-    for side in (away, -away):
-        e = b + CONE_AHEAD * np.array([math.cos(heading + side * turn), math.sin(heading + side * turn)])
-        if abs(e[0]) <= fld.HALF_LENGTH - 0.3 and abs(e[1]) <= fld.HALF_WIDTH - 0.3:
-            return e
     return t
 
 

@@ -37,16 +37,12 @@ class TeamConfig:
     # a spot behind it: villa:Funnel beat villa without it (villa:NoFunnel) by +0.43 +- 0.12
     # goals over 40 full games (benchmarks/results/funnel-vs-villa/).
     dribble_funnel: bool = True
-    dribble_evade: float = 0.0  # rad the dribble's line turns past an upright opponent in it (0: never)
-    orbit_brake_behind: float = 0.05  # m: going round the ball, the walk's braking radius to a point behind
-    dribble_avoid: bool = False  # lining a dribble up, walk round opponents (Body._round_opponents)
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
     kick_anticipation: bool = True  # run to where a teammate's kick will land
     kick_box: float = 1.0  # the kicks' stopping boxes scaled by this (wider: quicker, less exact)
     formation_shift: float = 0.0  # m added to every formation x (+: offensive, -: defensive)
-    support_distance: float | None = None  # m: the supporter this far behind the ball (None: the formation's)
     nearest_stopper: bool = False  # the supporter role goes to the nearest field player first (PtW 6)
     path_cost: bool = False  # role costs walk round the ball and the on-ball player (PtW 6)
     sprint_within: float | None = None  # deg: the sprint set toward a target this straight ahead (A.1.4) ...
@@ -114,17 +110,6 @@ VARIANTS: dict[str, TeamConfig] = {
     # It won duels (+0.64 +- 0.13 m a pair) but not games: +0.03 +- 0.07 over 40 full games
     # against villa (benchmarks/results/quickstart-vs-villa/).
     "QuickStart": TeamConfig(walk_files=("walk_quick.txt",)),
-    # The dribble's line turned 45 deg past an upright opponent standing in it within 1.5 m
-    # ahead of the ball (strategy.evade_target), to the side it is not on.
-    "Evade": TeamConfig(dribble_evade=math.radians(45.0)),
-    # The supporter 0.8 m behind the ball on its line to our goal (the formation: 1.5 m behind).
-    "CloseSupport": TeamConfig(support_distance=0.8),
-    # Going round the ball, a point behind the robot is walked to slowing within 0.5 m (not
-    # 0.05): full speed backward while turning preceded falls in duels.
-    "GentleOrbit": TeamConfig(orbit_brake_behind=0.5),
-    # Lining a dribble up (round the ball and into its line), walk round opponents in the way
-    # (D.1.2 with radii 0.8 and 0.45 m): in duels the falls came with the opponent 0.5-1 m away.
-    "DribbleAvoid": TeamConfig(dribble_avoid=True),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

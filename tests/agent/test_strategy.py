@@ -56,17 +56,6 @@ def test_the_goalie_takes_the_ball_only_inside_its_box():
     assert st.on_ball_player(v) == 5  # outside the box the goalie stays home
 
 
-def test_a_close_supporter_stands_behind_the_ball_on_its_line_to_our_goal():
-    formation = Formation.default()
-    for ball in ((0.0, 0.0), (10.0, -6.0), (-12.0, 3.0)):
-        b = np.array(ball)
-        base = st.role_positions(formation, b)
-        close = st.role_positions(formation, b, support=0.8)
-        assert np.array_equal(np.delete(close, 1, axis=0), np.delete(base, 1, axis=0))
-        assert math.hypot(*(close[1] - b)) == pytest.approx(0.8)
-        assert math.hypot(*(close[1] - st.OWN_GOAL)) == pytest.approx(math.hypot(*(b - st.OWN_GOAL)) - 0.8)
-
-
 def test_role_assignment_is_the_brute_force_minimum_of_max_then_squares():
     rng = np.random.default_rng(3)
     formation = Formation.default()
@@ -211,33 +200,6 @@ def test_a_dribble_cone_is_the_goal_near_the_goal_and_near_the_touch_line():
     goal = st.dribble_target(view(ball=by_line))
     # coming from the field's middle, the turned line would cross the touch line
     assert np.array_equal(st.approach_target(by_line, goal, (0.0, 0.0), cone), goal)
-
-
-def test_a_dribble_turns_past_an_upright_opponent_in_its_line_to_the_side_it_is_not_on():
-    angle = math.radians(45.0)
-    ball, goal = np.array([0.0, 0.0]), np.array([fld.HALF_LENGTH + 0.5, 0.0])
-    for y, turn in ((0.2, -angle), (-0.2, angle)):
-        t = st.evade_target(ball, goal, np.array([[1.0, y]]), np.array([False]), angle)
-        assert _heading(ball, t) == pytest.approx(turn, abs=1e-9)
-        assert math.hypot(*(t - ball)) == pytest.approx(st.CONE_AHEAD)
-    clear = (np.array([[1.0, 0.0]]), np.array([True]))  # fallen
-    for opponents, fallen in (clear, (np.array([[2.0, 0.0]]), np.array([False])),  # beyond reach
-                              (np.array([[1.0, 0.8]]), np.array([False])),  # beside the lane
-                              (np.array([[-0.5, 0.0]]), np.array([False]))):  # behind the ball
-        assert np.array_equal(st.evade_target(ball, goal, opponents, fallen, angle), goal)
-    # by the touch line the turn goes to the side that stays in the field
-    by_line = np.array([0.0, fld.HALF_WIDTH - 0.5])
-    goal = np.array([fld.HALF_LENGTH + 0.5, fld.HALF_WIDTH - 0.5])
-    t = st.evade_target(by_line, goal, np.array([[1.0, by_line[1] - 0.1]]), np.array([False]), angle)
-    assert _heading(by_line, t) == pytest.approx(-angle, abs=1e-9)
-
-
-def test_a_dribble_near_the_goal_goes_at_it_whoever_stands_there():
-    goal = np.array([fld.HALF_LENGTH + 0.5, 0.0])
-    ball = np.array([fld.HALF_LENGTH - 1.5, 0.0])
-    t = st.evade_target(ball, goal, np.array([[fld.HALF_LENGTH - 0.6, 0.1]]), np.array([False]),
-                        math.radians(45.0))
-    assert _heading(ball, t) == pytest.approx(0.0, abs=1e-9)
 
 
 def test_the_kickoff_taker_can_be_left_out():
