@@ -26,7 +26,10 @@ tried, not kept) - villa +0.09 +- 0.14 m: nothing to batch. villa:QuickStart (th
 at speed from the stand in a third of a second) - villa **+0.64 +- 0.13 m** (possession
 60%), yet +0.03 +- 0.07 goals a game over 40 full games (4:3 in goals) and no more
 possession there: a duel starts both players from a stand, which a match seldom does, so
-it screens changes for a batch and does not replace one.
+it screens changes for a batch and does not replace one. GentleOrbit (commit 2ef4032)
+won its duels too (+0.26 +- 0.13 m) and nothing in small-sided games; those (4 vs 4, 2 x
+150 s, 40 games in 15 minutes) agree with full games on both Funnel and QuickStart, so
+they are the better screen for a batch (README, `benchmarks/results/screen-4v4/`).
 
     python -m benchmarks.duel [--home villa:NAME] [--away villa] [--pairs 20] [--seed 0]
                               [--types 0,1,2,3,4] [--seconds 20] [--workers 1]
