@@ -240,14 +240,15 @@ WALK_PARAMS = (
     "gyro_pitch_walk", "swing_steepness", "default_com_pos_x", "fwd_offset", "fwd_offset_factor",
     "shift_amount", "step_height", "pid_roll", "pid_tilt", "swing_ankle_offset", "arm_pitch",
     "pid_arm_x", "arm_roll", "toe_amplitude", "toe_phase_offset", "toe_const_offset",
-    "ankle_amplitude", "ankle_phase_offset", "ankle_const_offset",
+    "ankle_amplitude", "ankle_phase_offset", "ankle_const_offset", "balance_step_x", "balance_step_y",
+    "balance_deadband",
 )
 (P_MAX_X, P_MAX_Y, P_MAX_A, P_BACKWARD, P_PID_X, P_PID_Y, P_PID_ROT, P_COM_NORMAL, P_COM_ACCEPT,
  P_PHASE_LENGTH, P_HEADING_GAIN, P_WALK_HEIGHT, P_F_STILL, P_F_GROUND, P_F_MOVING, P_F_AIR,
  P_GYRO_ROLL, P_GYRO_PITCH, P_GYRO_PITCH_WALK, P_STEEPNESS, P_COM_X, P_FWD_OFFSET, P_FWD_FACTOR,
  P_SHIFT, P_STEP_HEIGHT, P_PID_ROLL, P_PID_TILT, P_SWING_ANKLE, P_ARM_PITCH, P_PID_ARM_X,
  P_ARM_ROLL, P_TOE_AMP, P_TOE_PHASE, P_TOE_CONST, P_ANKLE_AMP, P_ANKLE_PHASE,
- P_ANKLE_CONST) = range(len(WALK_PARAMS))
+ P_ANKLE_CONST, P_BAL_X, P_BAL_Y, P_BAL_DEAD) = range(len(WALK_PARAMS))
 
 # The walk engine's state vector: phase (start, end, now), the swinging foot (0 left,
 # 1 right), step sizes x, y (m) and theta (rad), walking (0/1), s since zero velocity was
@@ -269,6 +270,8 @@ _STOP_JOG_TIME = 0.5  # `skills.walk.STOP_JOG_TIME`
 _STAND_DAMP_TIME = 1.0  # `skills.walk.STAND_DAMP_TIME`
 _STAND_DAMP_FADE = 0.5  # `skills.walk.STAND_DAMP_FADE`
 _BALANCE_SMOOTHING = 0.3  # `skills.walk.BALANCE_SMOOTHING`
+_BALANCE_STEP_OUT = 0.06  # `skills.walk.BALANCE_STEP_OUT`
+_BALANCE_STEP_IN = 0.02  # `skills.walk.BALANCE_STEP_IN`
 
 
 @njit
@@ -356,6 +359,26 @@ def walk_feet(s: np.ndarray, p: np.ndarray, hips: np.ndarray, standing: bool, fe
         f[5] = -sign * yaw
         if j == 0 and not standing:  # toes up stepping forward, down stepping back
             f[4] += p[P_SWING_ANKLE] * zfrac * (1.0 if sx >= 0 else -1.0)
+            bx, by = _balance_step(s[S_TILT], s[S_ROLL], p[P_BAL_X], p[P_BAL_Y], p[P_BAL_DEAD], sign)
+            f[0] += bx * yfrac
+            f[1] += by * yfrac
+
+
+@njit
+def _dead(v: float, band: float) -> float:
+    """v less `band` toward zero (0 within it)."""
+    return v - band if v > band else v + band if v < -band else 0.0
+
+
+@njit
+def _balance_step(tilt: float, roll: float, kx: float, ky: float, band: float,
+                  sign: float) -> tuple[float, float]:
+    """The swing foot's offset (m, torso frame x, y) toward where the torso leans (tilt
+    forward, roll rightward positive; rad) beyond `band`; the foot of side `sign` (1
+    left, -1 right) steps out at most `_BALANCE_STEP_OUT`, in `_BALANCE_STEP_IN`."""
+    bx = _clip(kx * _dead(tilt, band), -_BALANCE_STEP_OUT, _BALANCE_STEP_OUT)
+    out = _clip(-sign * ky * _dead(roll, band), -_BALANCE_STEP_IN, _BALANCE_STEP_OUT)
+    return bx, sign * out
 
 
 @njit

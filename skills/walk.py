@@ -43,6 +43,8 @@ STOP_JOG_TIME = 0.5  # s of jogging in place before standing still
 STAND_DAMP_TIME = 1.0  # s after a stop request that the ankles' gyro damping stays on ...
 STAND_DAMP_FADE = 0.5  # s ... before it has faded out (see `foot_targets`)
 BALANCE_SMOOTHING = 0.3  # weight of a new tilt/roll estimate in the balance terms' low-pass
+BALANCE_STEP_OUT = 0.06  # m: most a balance step moves the swing foot (forward, back or out) ...
+BALANCE_STEP_IN = 0.02  # m ... and inward, toward the stance foot
 DATA = Path(__file__).parent / "data"
 _ZERO3 = np.zeros(3)  # the kernel's gyro when there is none
 
@@ -67,6 +69,9 @@ WALK_SCHEMA: dict[str, str] = {
     "backward_factor": "1",
     # The forward swing's sigmoid steepness (UT: 10); lower is gentler on the motors.
     "swing_steepness": "1",
+    # Balance steps: the swing foot goes toward where the torso leans, by balance_step_x
+    # (forward) and balance_step_y (sideways) m per rad of tilt and roll beyond the deadband.
+    "balance_step_x": "1", "balance_step_y": "1", "balance_deadband": "rad",
 }
 
 # The named parameter sets of section 4.1 and the prefix each has in parameter files.
@@ -124,6 +129,9 @@ class WalkParams:
     heading_gain: float = 0.0
     backward_factor: float = 0.5
     swing_steepness: float = 10.0
+    balance_step_x: float = 0.0
+    balance_step_y: float = 0.0
+    balance_deadband: float = 0.0
 
     @classmethod
     def from_values(cls, values: Mapping[str, float], base: WalkParams | None = None) -> WalkParams:

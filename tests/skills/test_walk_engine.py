@@ -1,12 +1,15 @@
 """The walk engine's trajectories, step filter, inputs and parameter sets (no physics)."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from skills.params import ParamError
 from skills.walk import (
+    BALANCE_STEP_IN,
+    BALANCE_STEP_OUT,
     WALK_SETS,
     WalkEngine,
     WalkParams,
@@ -131,13 +134,18 @@ def _same(a, b) -> bool:
     return a.shape == b.shape and a.tobytes() == b.tobytes()
 
 
-@pytest.mark.parametrize("robot_type", [0, 4])
-def test_compiled_walk_matches_the_python_reference_bit_for_bit(robot_type):
+@pytest.mark.parametrize("robot_type, balance", [(0, False), (4, False), (2, True)])
+def test_compiled_walk_matches_the_python_reference_bit_for_bit(robot_type, balance):
     """The compiled cycle (`skills._kernels.walk_update`) against the plain Python engine
-    it replaced: starts, stops, every direction, set changes, gyro and CoM feedback."""
+    it replaced: starts, stops, every direction, set changes, gyro and CoM feedback (and
+    balance steps)."""
     from tests.skills.walk_reference import WalkEngineRef
 
-    e, ref = WalkEngine(robot_type), WalkEngineRef(robot_type)
+    sets = load_walk_sets(default_param_files(robot_type))
+    if balance:
+        sets = {k: replace(p, balance_step_x=1.5, balance_step_y=0.8, balance_deadband=0.02)
+                for k, p in sets.items()}
+    e, ref = WalkEngine(robot_type, sets), WalkEngineRef(robot_type, sets)
     rng = np.random.default_rng(robot_type)
     sets = list(WALK_SETS)
     joints = None
@@ -186,3 +194,44 @@ def test_a_new_walk_set_takes_over_as_a_step_begins():
     e.reset()  # standing: at once
     e.update(0.0, 0.0, 0.0, set_name="go_to_target")
     assert e.params is gtt
+
+
+def _swing_end(params: WalkParams, tilt: float, roll: float) -> dict[str, np.ndarray]:
+    """Each foot's ankle target (m, torso frame) at the end of a swing of a forward walk
+    whose torso leans by tilt and roll (rad) throughout; the swinging foot is first."""
+    e = WalkEngine(0, {name: params for name in WALK_SETS})
+    for _ in range(40):
+        e.update(1.0, 0.0, 0.0, tilt=tilt, roll=roll)
+    while not e.step_begins():
+        e.update(1.0, 0.0, 0.0, tilt=tilt, roll=roll)
+    while e.step_begins():
+        e.update(1.0, 0.0, 0.0, tilt=tilt, roll=roll)
+    while True:  # the last cycle of this swing
+        feet = e.foot_targets()
+        e.update(1.0, 0.0, 0.0, tilt=tilt, roll=roll)
+        if e.step_begins():
+            return {side: pos for side, (pos, _) in feet.items()}
+
+
+def test_balance_steps_put_the_swing_foot_where_the_torso_leans():
+    """Leaning back the swing foot lands behind where it would upright, leaning forward
+    ahead; leaning sideways it steps out on the lean's side, little inward; within the
+    deadband, and with zero gains, nothing changes. (A step's last cycle is just short of
+    the swing's end: the offsets are within 15% of the full ones.)"""
+    base = load_walk_sets(default_param_files(0))["go_to_target"]
+    bal = replace(base, balance_step_x=0.5, balance_step_y=0.5, balance_deadband=0.03)
+    upright = _swing_end(bal, 0.0, 0.0)
+    assert all(np.allclose(upright[s], _swing_end(base, 0.0, 0.0)[s]) for s in "lr")
+    assert all(np.allclose(upright[s], _swing_end(bal, 0.02, -0.02)[s]) for s in "lr")
+    for tilt, roll in ((-0.13, 0.0), (0.13, 0.0), (0.0, 0.13), (0.0, -0.13), (0.0, 0.5)):
+        leaning = _swing_end(bal, tilt, roll)
+        swing = next(iter(leaning))
+        dx, dy = leaning[swing][:2] - upright[swing][:2]
+        assert np.allclose(leaning[swing][2], upright[swing][2])
+        want = 0.5 * (tilt - math.copysign(0.03, tilt)) if tilt else 0.0
+        assert dx == pytest.approx(want, rel=0.15, abs=1e-9)
+        if roll:
+            outward = dy if swing == "l" else -dy
+            leans_out = (roll < 0) == (swing == "l")  # roll > 0: the torso leans right
+            want = min(0.5 * (abs(roll) - 0.03), BALANCE_STEP_OUT if leans_out else BALANCE_STEP_IN)
+            assert outward == pytest.approx(want if leans_out else -want, rel=0.15), (tilt, roll, swing)

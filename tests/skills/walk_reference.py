@@ -14,6 +14,8 @@ from skills.ik import LegIK
 from skills.kinematics import RobotKinematics
 from skills.walk import (
     BALANCE_SMOOTHING,
+    BALANCE_STEP_IN,
+    BALANCE_STEP_OUT,
     FOOT_SEPARATION,
     STAND_DAMP_FADE,
     STAND_DAMP_TIME,
@@ -29,6 +31,10 @@ from skills.walk import (
 def _clip(v: float, lo: float, hi: float) -> float:
     """np.clip of one float (NaN stays NaN)."""
     return lo if v < lo else hi if v > hi else v
+
+
+def _dead(v: float, band: float) -> float:
+    return v - band if v > band else v + band if v < -band else 0.0
 
 
 def _sigmoid(v: float) -> float:
@@ -257,6 +263,13 @@ class WalkEngineRef:
                             p.pid_tilt * self.tilt + gyro_pitch * self.gyro[1], -sign[side] * yaw])
             if side == swing and not standing:  # toes up stepping forward, down stepping back
                 rpy[1] += p.swing_ankle_offset * zfrac * (1.0 if sx >= 0 else -1.0)
+                # Balance step: the swing foot goes toward where the torso leans.
+                bx = _clip(p.balance_step_x * _dead(self.tilt, p.balance_deadband),
+                           -BALANCE_STEP_OUT, BALANCE_STEP_OUT)
+                outward = _clip(-sign[side] * p.balance_step_y * _dead(self.roll, p.balance_deadband),
+                                -BALANCE_STEP_IN, BALANCE_STEP_OUT)
+                pos[0] += bx * yfrac
+                pos[1] += sign[side] * outward * yfrac
             out[side] = (pos, rpy)
         return out
 
