@@ -254,10 +254,13 @@ WALK_PARAMS = (
 # 1 right), step sizes x, y (m) and theta (rad), walking (0/1), s since zero velocity was
 # asked, low-passed tilt and roll (rad), the CoM step factor, the gyro (rad/s, torso
 # frame), heading error (rad), turn per phase (rad), latched side step (m) and turn (rad),
-# whether the CoM the last targets put the body at is known (0/1), and that CoM (m, 3).
+# whether the CoM the last targets put the body at is known (0/1), that CoM (m, 3), the
+# swing foot's balance step (m, x and y, torso frame) and the stance foot's (the one it
+# landed with, fading over the step).
 (S_PHI_START, S_PHI_END, S_PHI, S_SWING, S_STEP_X, S_STEP_Y, S_STEP_TH, S_WALKING, S_STOP_TIME,
  S_TILT, S_ROLL, S_STEP_FACTOR, S_GYRO_X, S_GYRO_Y, S_GYRO_Z, S_HEADING_ERROR, S_TURN_STEP,
- S_LATCHED_Y, S_LATCHED_TH, S_HAS_EXPECTED_COM, S_EXPECTED_COM, WALK_STATE) = (*range(21), 23)
+ S_LATCHED_Y, S_LATCHED_TH, S_HAS_EXPECTED_COM, S_EXPECTED_COM, S_BAL_X, S_BAL_Y, S_BAL_STANCE_X,
+ S_BAL_STANCE_Y, WALK_STATE) = (*range(21), *range(23, 28))
 
 # Joint indices of the walk's targets (`WalkEngine._idx`): left then right leg lj1..lj6,
 # arm joints laj1, raj1, laj2, raj2, laj3, raj3, laj4, raj4, then whether the robot has
@@ -359,9 +362,11 @@ def walk_feet(s: np.ndarray, p: np.ndarray, hips: np.ndarray, standing: bool, fe
         f[5] = -sign * yaw
         if j == 0 and not standing:  # toes up stepping forward, down stepping back
             f[4] += p[P_SWING_ANKLE] * zfrac * (1.0 if sx >= 0 else -1.0)
-            bx, by = _balance_step(s[S_TILT], s[S_ROLL], p[P_BAL_X], p[P_BAL_Y], p[P_BAL_DEAD], sign)
-            f[0] += bx * yfrac
-            f[1] += by * yfrac
+            f[0] += s[S_BAL_X] * yfrac
+            f[1] += s[S_BAL_Y] * yfrac
+        elif not standing:  # the torso moves over where the foot landed as the step goes on
+            f[0] += s[S_BAL_STANCE_X] * (1.0 - t)
+            f[1] += s[S_BAL_STANCE_Y] * (1.0 - t)
 
 
 @njit
@@ -371,14 +376,15 @@ def _dead(v: float, band: float) -> float:
 
 
 @njit
-def _balance_step(tilt: float, roll: float, kx: float, ky: float, band: float,
-                  sign: float) -> tuple[float, float]:
-    """The swing foot's offset (m, torso frame x, y) toward where the torso leans (tilt
-    forward, roll rightward positive; rad) beyond `band`; the foot of side `sign` (1
-    left, -1 right) steps out at most `_BALANCE_STEP_OUT`, in `_BALANCE_STEP_IN`."""
-    bx = _clip(kx * _dead(tilt, band), -_BALANCE_STEP_OUT, _BALANCE_STEP_OUT)
-    out = _clip(-sign * ky * _dead(roll, band), -_BALANCE_STEP_IN, _BALANCE_STEP_OUT)
-    return bx, sign * out
+def _balance_step(s: np.ndarray, p: np.ndarray) -> None:
+    """The swing foot's balance step into the state: its offset (m, torso frame x, y)
+    toward where the torso leans (tilt forward, roll rightward positive; rad) beyond the
+    deadband, out at most `_BALANCE_STEP_OUT`, inward `_BALANCE_STEP_IN`."""
+    band = p[P_BAL_DEAD]
+    sign = 1.0 if s[S_SWING] == 0.0 else -1.0  # the left foot swings: +y is out
+    s[S_BAL_X] = _clip(p[P_BAL_X] * _dead(s[S_TILT], band), -_BALANCE_STEP_OUT, _BALANCE_STEP_OUT)
+    out = _clip(-sign * p[P_BAL_Y] * _dead(s[S_ROLL], band), -_BALANCE_STEP_IN, _BALANCE_STEP_OUT)
+    s[S_BAL_Y] = sign * out
 
 
 @njit
@@ -455,6 +461,7 @@ def walk_update(s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray,
         s[S_TURN_STEP] = 0.0
         s[S_PHI] = s[S_PHI_START]
         s[S_STEP_X], s[S_STEP_Y], s[S_STEP_TH] = 0.0, 0.0, 0.0
+        s[S_BAL_X], s[S_BAL_Y], s[S_BAL_STANCE_X], s[S_BAL_STANCE_Y] = 0.0, 0.0, 0.0, 0.0
         walk_targets(s, p, legs, idx, True, feet, q, full)
         _expect_com(s, full, com_int, com_float)
         return True, 0.0, 0.0, gyro[2] * dt if has_gyro else 0.0
@@ -473,6 +480,7 @@ def walk_update(s: np.ndarray, p: np.ndarray, legs: np.ndarray, idx: np.ndarray,
     if new_phase:  # side step and turn are fixed for a whole step
         s[S_LATCHED_Y], s[S_LATCHED_TH] = s1, wanted_turn
     s[S_TURN_STEP] = s[S_LATCHED_TH]
+    _balance_step(s, p)
     walk_targets(s, p, legs, idx, False, feet, q, full)
     _expect_com(s, full, com_int, com_float)
     return False, s0 * frac, s[S_LATCHED_Y] * frac, turned
@@ -496,6 +504,7 @@ def walk_swap(s: np.ndarray, p: np.ndarray) -> None:
     s[S_PHI_START], s[S_PHI_END] = start, -start
     s[S_PHI] = start
     s[S_SWING] = 1.0 - s[S_SWING]
+    s[S_BAL_STANCE_X], s[S_BAL_STANCE_Y] = s[S_BAL_X], s[S_BAL_Y]  # the swing foot has landed
 
 
 # ---------------------------------------------------------------------- the IMU

@@ -235,3 +235,24 @@ def test_balance_steps_put_the_swing_foot_where_the_torso_leans():
             leans_out = (roll < 0) == (swing == "l")  # roll > 0: the torso leans right
             want = min(0.5 * (abs(roll) - 0.03), BALANCE_STEP_OUT if leans_out else BALANCE_STEP_IN)
             assert outward == pytest.approx(want if leans_out else -want, rel=0.15), (tilt, roll, swing)
+
+
+def test_a_balance_step_carries_over_into_the_stance_without_a_jump():
+    """The foot that stepped toward the lean keeps its offset as it lands, then the torso
+    moves over it during the step: no foot target jumps more from one cycle to the next
+    than without balance steps (a snap back of the 5 cm step would)."""
+    base = load_walk_sets(default_param_files(0))["go_to_target"]
+
+    def largest_jump(params: WalkParams) -> float:
+        e = WalkEngine(0, {name: params for name in WALK_SETS})
+        last, jump = None, 0.0
+        for _ in range(150):
+            e.update(1.0, 0.0, 0.0, tilt=-0.13, roll=0.13)
+            feet = np.concatenate([e.foot_targets()[s][0] for s in "lr"])
+            if last is not None:
+                jump = max(jump, float(np.abs(feet - last).max()))
+            last = feet
+        return jump
+
+    balanced = replace(base, balance_step_x=0.5, balance_step_y=0.5, balance_deadband=0.03)
+    assert largest_jump(balanced) < largest_jump(base) + 0.01

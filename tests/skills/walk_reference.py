@@ -91,6 +91,8 @@ class WalkEngineRef:
         self.step_factor = 1.0
         self.expected_com: np.ndarray | None = None
         self.gyro = np.zeros(3)
+        self.balance = (0.0, 0.0)  # the swing foot's balance step (m, x and y, torso frame)
+        self.balance_stance = (0.0, 0.0)  # the stance foot's, the one it landed with
         self.heading_error = 0.0  # rad turned beyond the requested turn while walking
         self.turn_step = 0.0  # rad per phase the feet turn, with the heading correction
         self.latched = (0.0, 0.0)  # side step (m) and turn (rad) of the current step
@@ -147,6 +149,7 @@ class WalkEngineRef:
             self.turn_step = 0.0
             self.phi = self.phi_start
             self.step[:] = 0.0
+            self.balance = self.balance_stance = (0.0, 0.0)
             targets = self._targets(standing=True)
             # Standing, the torso still turns as it settles over feet a turn left
             # at different yaws (10-25 deg after a turn in place): the gyro counts it.
@@ -170,6 +173,13 @@ class WalkEngineRef:
         if new_phase:  # side step and turn are fixed for a whole step, so no foot changes lead
             self.latched = (s1, wanted_turn)
         self.turn_step = self.latched[1]
+        # Balance step: the swing foot goes toward where the torso leans.
+        sign = 1.0 if self.swing == "l" else -1.0
+        bx = _clip(p.balance_step_x * _dead(self.tilt, p.balance_deadband),
+                   -BALANCE_STEP_OUT, BALANCE_STEP_OUT)
+        outward = _clip(-sign * p.balance_step_y * _dead(self.roll, p.balance_deadband),
+                        -BALANCE_STEP_IN, BALANCE_STEP_OUT)
+        self.balance = (bx, sign * outward)
         targets = self._targets(standing=False)
         odo = (s0 * frac, self.latched[0] * frac, turned)
         return WalkOutput(targets, odo, False)
@@ -183,6 +193,7 @@ class WalkEngineRef:
         self.phi_start, self.phi_end = start, -start
         self.phi = self.phi_start
         self.swing = "r" if self.swing == "l" else "l"
+        self.balance_stance = self.balance  # the swing foot has landed
 
     # -------------------------------------------------------------- foot targets
 
@@ -263,13 +274,11 @@ class WalkEngineRef:
                             p.pid_tilt * self.tilt + gyro_pitch * self.gyro[1], -sign[side] * yaw])
             if side == swing and not standing:  # toes up stepping forward, down stepping back
                 rpy[1] += p.swing_ankle_offset * zfrac * (1.0 if sx >= 0 else -1.0)
-                # Balance step: the swing foot goes toward where the torso leans.
-                bx = _clip(p.balance_step_x * _dead(self.tilt, p.balance_deadband),
-                           -BALANCE_STEP_OUT, BALANCE_STEP_OUT)
-                outward = _clip(-sign[side] * p.balance_step_y * _dead(self.roll, p.balance_deadband),
-                                -BALANCE_STEP_IN, BALANCE_STEP_OUT)
-                pos[0] += bx * yfrac
-                pos[1] += sign[side] * outward * yfrac
+                pos[0] += self.balance[0] * yfrac
+                pos[1] += self.balance[1] * yfrac
+            elif not standing:  # the torso moves over where the foot landed
+                pos[0] += self.balance_stance[0] * (1.0 - t)
+                pos[1] += self.balance_stance[1] * (1.0 - t)
             out[side] = (pos, rpy)
         return out
 
