@@ -241,14 +241,14 @@ WALK_PARAMS = (
     "shift_amount", "step_height", "pid_roll", "pid_tilt", "swing_ankle_offset", "arm_pitch",
     "pid_arm_x", "arm_roll", "toe_amplitude", "toe_phase_offset", "toe_const_offset",
     "ankle_amplitude", "ankle_phase_offset", "ankle_const_offset", "balance_step_x", "balance_step_y",
-    "balance_deadband",
+    "balance_deadband", "balance_fade",
 )
 (P_MAX_X, P_MAX_Y, P_MAX_A, P_BACKWARD, P_PID_X, P_PID_Y, P_PID_ROT, P_COM_NORMAL, P_COM_ACCEPT,
  P_PHASE_LENGTH, P_HEADING_GAIN, P_WALK_HEIGHT, P_F_STILL, P_F_GROUND, P_F_MOVING, P_F_AIR,
  P_GYRO_ROLL, P_GYRO_PITCH, P_GYRO_PITCH_WALK, P_STEEPNESS, P_COM_X, P_FWD_OFFSET, P_FWD_FACTOR,
  P_SHIFT, P_STEP_HEIGHT, P_PID_ROLL, P_PID_TILT, P_SWING_ANKLE, P_ARM_PITCH, P_PID_ARM_X,
  P_ARM_ROLL, P_TOE_AMP, P_TOE_PHASE, P_TOE_CONST, P_ANKLE_AMP, P_ANKLE_PHASE,
- P_ANKLE_CONST, P_BAL_X, P_BAL_Y, P_BAL_DEAD) = range(len(WALK_PARAMS))
+ P_ANKLE_CONST, P_BAL_X, P_BAL_Y, P_BAL_DEAD, P_BAL_FADE) = range(len(WALK_PARAMS))
 
 # The walk engine's state vector: phase (start, end, now), the swinging foot (0 left,
 # 1 right), step sizes x, y (m) and theta (rad), walking (0/1), s since zero velocity was
@@ -365,8 +365,9 @@ def walk_feet(s: np.ndarray, p: np.ndarray, hips: np.ndarray, standing: bool, fe
             f[0] += s[S_BAL_X] * yfrac
             f[1] += s[S_BAL_Y] * yfrac
         elif not standing:  # the torso moves over where the foot landed as the step goes on
-            f[0] += s[S_BAL_STANCE_X] * (1.0 - t)
-            f[1] += s[S_BAL_STANCE_Y] * (1.0 - t)
+            fade = _max2(0.0, 1.0 - t / _max2(p[P_BAL_FADE], 1e-9))
+            f[0] += s[S_BAL_STANCE_X] * fade
+            f[1] += s[S_BAL_STANCE_Y] * fade
 
 
 @njit

@@ -72,6 +72,8 @@ WALK_SCHEMA: dict[str, str] = {
     # Balance steps: the swing foot goes toward where the torso leans, by balance_step_x
     # (forward) and balance_step_y (sideways) m per rad of tilt and roll beyond the deadband.
     "balance_step_x": "1", "balance_step_y": "1", "balance_deadband": "rad",
+    # The landed foot's offset fades over this fraction of the next step (the torso moves over it).
+    "balance_fade": "1",
 }
 
 # The named parameter sets of section 4.1 and the prefix each has in parameter files.
@@ -132,6 +134,7 @@ class WalkParams:
     balance_step_x: float = 0.0
     balance_step_y: float = 0.0
     balance_deadband: float = 0.0
+    balance_fade: float = 1.0
 
     @classmethod
     def from_values(cls, values: Mapping[str, float], base: WalkParams | None = None) -> WalkParams:

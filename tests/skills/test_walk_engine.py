@@ -143,7 +143,7 @@ def test_compiled_walk_matches_the_python_reference_bit_for_bit(robot_type, bala
 
     sets = load_walk_sets(default_param_files(robot_type))
     if balance:
-        sets = {k: replace(p, balance_step_x=1.5, balance_step_y=0.8, balance_deadband=0.02)
+        sets = {k: replace(p, balance_step_x=1.5, balance_step_y=0.8, balance_deadband=0.02, balance_fade=0.4)
                 for k, p in sets.items()}
     e, ref = WalkEngine(robot_type, sets), WalkEngineRef(robot_type, sets)
     rng = np.random.default_rng(robot_type)

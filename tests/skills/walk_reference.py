@@ -277,8 +277,9 @@ class WalkEngineRef:
                 pos[0] += self.balance[0] * yfrac
                 pos[1] += self.balance[1] * yfrac
             elif not standing:  # the torso moves over where the foot landed
-                pos[0] += self.balance_stance[0] * (1.0 - t)
-                pos[1] += self.balance_stance[1] * (1.0 - t)
+                fade = max(0.0, 1.0 - t / max(p.balance_fade, 1e-9))
+                pos[0] += self.balance_stance[0] * fade
+                pos[1] += self.balance_stance[1] * fade
             out[side] = (pos, rpy)
         return out
 
