@@ -110,6 +110,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # It won duels (+0.64 +- 0.13 m a pair) but not games: +0.03 +- 0.07 over 40 full games
     # against villa (benchmarks/results/quickstart-vs-villa/).
     "QuickStart": TeamConfig(walk_files=("walk_quick.txt",)),
+    # Balance steps in every walk set (skills/data/walk_balance.txt): fewer falls where robots
+    # meet (benchmarks.bump) and in 4 vs 4 games (+0.12 +- 0.05 goals), but -0.07 +- 0.10 over
+    # 40 full games against villa (benchmarks/results/balance-vs-villa/).
+    "Balance": TeamConfig(walk_files=("walk_balance.txt",)),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and
