@@ -6,7 +6,8 @@ lift, a cosh side-to-side shift, a sigmoid forward swing and a cosine groin
 (hip yaw-pitch) rotation for turning. Requested velocities in [-1, 1] are
 filtered by a proportional controller into step sizes clamped at the maximum
 steps; a center-of-mass error shrinks the steps; torso tilt and roll (from the
-IMU) tilt the feet back level. Inverse kinematics turns the foot targets into
+IMU) tilt the feet back level; balance steps (off in the shipped sets) put the
+swing foot toward where the torso leans. Inverse kinematics turns the foot targets into
 joint angles. When asked to stop, the robot jogs in place for half a second,
 then stands.
 
@@ -369,7 +370,9 @@ class WalkEngine:
         pendulum's cosh shift plus the side step (the leading foot steps out, the feet
         never cross); the groin turns the feet (a left turn is led by the right foot,
         as the hip yaw-pitch only turns toes in); the feet turn against the low-passed
-        tilt and roll, with gyro damping that fades out once the robot stands.
+        tilt and roll, with gyro damping that fades out once the robot stands; a balance
+        step moves the swing foot toward where the torso leans, and the foot keeps that
+        offset as it lands, fading over `balance_fade` of the next step.
         """
         feet = np.empty((2, 6))
         kernels.walk_feet(self._s, self._param_vector(self.params), self._legs, bool(standing), feet)
