@@ -26,6 +26,8 @@ side by side -0.097 +- 0.047); with the landed foot's offset dropped within a cy
 (balance_fade 0.05) -0.023 +- 0.029, and gains 1.0/1.0 beyond 0.02 rad with that fade
 -0.045 +- 0.028. Larger gains and smaller deadbands made the walk itself fall
 (`benchmarks.walk`'s course: 1.5/0.6 beyond 0.03 rad, type 0 fell in 4 of 10 runs).
+Tried by hand, not kept: A stopping its forward push while its torso leaned back beyond
+0.04 or 0.06 rad fell as often head-on (0.72 and 0.75 against B's 0.73 and 0.76).
 
     python -m benchmarks.bump [--params FILE ...] [--against FILE ...] [--trials 200]
                               [--seed 0] [--types 0,1,2,3,4] [--seconds 7] [--workers 2]
