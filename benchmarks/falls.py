@@ -36,9 +36,42 @@ from cli.teams import UnknownTeam, factory
 from models.rules import CYCLE, PlayMode
 from models.scene import Lineup
 from server.match import Match
+from server.world import World
 
 LOOKBACK = 0.6  # s before the referee counts a fall whose activity is reported
 NEAR = 0.6  # m: another robot's torso this near counts as a collision
+# What touched a player (bits): the ball, or another robot touching its legs (hips to
+# toes), its arms or its trunk (torso, neck, head).
+TOUCH = {"ball": 1, "legs": 2, "arms": 4, "trunk": 8}
+_ARMS = ("shoulder", "upperarm", "elbow", "lowerarm")
+_TRUNK = ("torso", "neck", "head")
+
+
+def geom_parts(w: World) -> np.ndarray:
+    """Per geom, the TOUCH bit of the robot part it belongs to (0 for the rest)."""
+    m = w.model
+    out = np.zeros(m.ngeom, dtype=np.int64)
+    for g in np.nonzero(w.geom_owner >= 0)[0]:
+        part = m.body(int(m.geom_bodyid[g])).name.split("/", 1)[1]
+        out[g] = TOUCH["trunk"] if part in _TRUNK else TOUCH["arms"] if part[1:] in _ARMS else TOUCH["legs"]
+    return out
+
+
+def touches(w: World, parts: np.ndarray) -> np.ndarray:
+    """(n,) TOUCH bits per player from the contacts now: the ball on any of its geoms, and
+    another robot on its legs, arms or trunk."""
+    d = w.data
+    n = d.ncon
+    g1, g2 = d.contact.geom1[:n], d.contact.geom2[:n]
+    o1, o2 = w.geom_owner[g1], w.geom_owner[g2]
+    out = np.zeros(len(w.players), dtype=np.int64)
+    robots = (o1 >= 0) & (o2 >= 0) & (o1 != o2)
+    np.bitwise_or.at(out, o1[robots], parts[g1[robots]])
+    np.bitwise_or.at(out, o2[robots], parts[g2[robots]])
+    for mine, other in ((o1, g2), (o2, g1)):
+        ball = (other == w.ball_geom) & (mine >= 0)
+        out[mine[ball]] |= TOUCH["ball"]
+    return out
 
 
 def activity(agent) -> str:
@@ -59,17 +92,22 @@ def activity(agent) -> str:
 def fall_rows(m: Match, seconds: float) -> list[dict]:
     """Play `seconds` from the kickoff; one row per fall: game time (s), player index, side,
     robot type, activity LOOKBACK s before, whether it was getting up within LOOKBACK s,
-    and the nearest other robot's and the ball's ground distance (m)."""
+    the nearest other robot's and the ball's ground distance (m), and what touched it
+    within LOOKBACK s (`TOUCH` names; sampled once a cycle)."""
     w, ref = m.world, m.referee
+    parts = geom_parts(w)
     while ref.mode == PlayMode.BEFORE_KICK_OFF:
         m.step()
     recent = [deque(maxlen=round(LOOKBACK / CYCLE)) for _ in m.agents]
+    touched = [deque(maxlen=round(LOOKBACK / CYCLE)) for _ in m.agents]
     prev = ref.fallen.copy()
     rows = []
     for _ in range(round(seconds / CYCLE)):
         m.step()
         for r, agent in zip(recent, m.agents):
             r.append(activity(agent))
+        for t, bits in zip(touched, touches(w, parts).tolist()):
+            t.append(bits)
         new = np.nonzero(ref.fallen & ~prev)[0]
         prev = ref.fallen.copy()
         if not len(new):
@@ -83,8 +121,13 @@ def fall_rows(m: Match, seconds: float) -> list[dict]:
             rows.append({"time": round(float(ref.game_time), 2), "player": i, "side": str(p.side.value),
                          "type": p.robot_type, "activity": recent[i][0], "after_getup": "getup" in recent[i],
                          "nearest_robot_m": round(float(d.min()), 2),
-                         "ball_m": round(float(np.hypot(*(ball - xy[i]))), 2)})
+                         "ball_m": round(float(np.hypot(*(ball - xy[i]))), 2),
+                         "touched": _names(np.bitwise_or.reduce(np.array(touched[i], dtype=np.int64)))})
     return rows
+
+
+def _names(bits: int) -> list[str]:
+    return [k for k, b in TOUCH.items() if bits & b]
 
 
 def summary(rows: list[dict], players: dict[int, int], minutes: float) -> dict:
@@ -103,6 +146,8 @@ def summary(rows: list[dict], players: dict[int, int], minutes: float) -> dict:
         "near_robot": share(sum(r["nearest_robot_m"] < NEAR for r in rows)),
         "after_getup": share(sum(r["after_getup"] for r in rows)),
         "ball_within_1m": share(sum(r["ball_m"] < 1.0 for r in rows)),
+        "touched": {**{k: share(sum(k in r["touched"] for r in rows)) for k in TOUCH},
+                    "nothing": share(sum(not r["touched"] for r in rows))},
     }
 
 

@@ -5,12 +5,15 @@ from __future__ import annotations
 import json
 import math
 
+import mujoco
+import numpy as np
 import pytest
 
 from benchmarks import falls
 from cli.teams import factory
 from models.scene import Lineup
 from server.match import Match
+from server.world import World
 
 
 class _Tripping(Match):
@@ -36,8 +39,10 @@ def test_falls_are_reported_with_activity_and_neighbours():
     near, alone = laid[m.world.player("L", 2)], laid[m.alone]
     assert near["nearest_robot_m"] < falls.NEAR <= alone["nearest_robot_m"]
     assert near["activity"] in {"walkto", "stand", "kick", "dribble"} and not near["after_getup"]
+    assert all(set(r["touched"]) <= set(falls.TOUCH) for r in rows)
     s = falls.summary([r for r in rows if r["side"] == "L"], {0: 3, 1: 2, 2: 2, 3: 2, 4: 2}, 3.0 / 60)
     assert s["falls"] >= 2 and 0 < s["near_robot"] < 1
+    assert set(s["touched"]) == {*falls.TOUCH, "nothing"} and s["touched"]["nothing"] > 0  # `alone`
 
 
 def test_cli(capsys):
@@ -47,3 +52,25 @@ def test_cli(capsys):
     with pytest.raises(SystemExit):
         falls.main(["--seconds", "400"])
     assert "--seconds must be in (0, 300]" in capsys.readouterr().err
+
+
+def test_touches_name_what_touched_each_player():
+    """Apart, nothing touches the robots but the floor; the ball at one's foot touches
+    only that one; two robots overlapping touch each other's legs, arms and trunk."""
+    w = World(Lineup((4,), (0,)))
+    parts = falls.geom_parts(w)
+    w.place_robot(0, 0.0, 0.0, 0.0)
+    w.place_robot(1, 1.5, 0.0, math.pi)
+    w.place_ball((5.0, 5.0))
+    mujoco.mj_forward(w.model, w.data)
+    assert falls.touches(w, parts).tolist() == [0, 0]
+    foot = w.data.xpos[w.model.body("L1/rfoot").id]
+    w.place_ball((float(foot[0]) + 0.12, float(foot[1])), 0.04)
+    mujoco.mj_forward(w.model, w.data)
+    assert falls.touches(w, parts).tolist() == [falls.TOUCH["ball"], 0]
+    w.place_robot(1, 0.1, 0.0, math.pi)
+    w.place_ball((5.0, 5.0))
+    mujoco.mj_forward(w.model, w.data)
+    both = falls.TOUCH["legs"] | falls.TOUCH["arms"] | falls.TOUCH["trunk"]
+    assert (falls.touches(w, parts) & both).tolist() == [both, both]
+    assert not np.any(falls.touches(w, parts) & falls.TOUCH["ball"])
