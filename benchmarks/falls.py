@@ -20,6 +20,15 @@ team's kickoff the on-ball player and the supporter beamed onto one spot. With t
 blend into the stand (`skills.motion.Motion.enter_stand`) and kickoff spots 1 m apart,
 the same run: 53 falls, none in the first 3 s (the rest is chaos: the games diverge).
 
+What touched the fallen player within LOOKBACK s (villa against villa, `--games 2
+--seconds 200`, seeds 0 and 2, December 6, 2026; contacts sampled once a cycle): of 41
+falls, another robot on its legs 23 (56%), on its arms 7, on its trunk 2, the ball 3, and
+nothing 18 (44%). Falls are trips over the other's legs more than pushes: in 19 falls of
+30 villa-villa duels, feet and shanks touched before nearly every one, the ball before
+none (a script outside the repository, 1 s before each fall). Balance steps
+(`skills.walk`, villa:Balance) cut falls where robots walk into each other
+(`benchmarks.bump`) and in 4 vs 4 games, not measurably in full ones.
+
     python -m benchmarks.falls [--home villa] [--away villa] [--seconds 300] [--seed 0] [--games 1]
 """
 
