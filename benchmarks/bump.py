@@ -48,10 +48,10 @@ from benchmarks.machine import machine
 from models.messages import Action
 from models.rules import CYCLE
 from models.scene import Lineup
+from optimization.robot import place_standing, walk_motion
 from server.trainer import Trainer
-from skills.motion import Motion
 from skills.params import ParamError
-from skills.walk import WalkEngine, default_param_files, load_walk_sets
+from skills.walk import default_param_files, load_walk_sets
 
 STAND = 0.5  # s both robots stand before walking
 MEETINGS = ("head-on", "side by side")
@@ -77,14 +77,9 @@ def bump(seed: int, params: list[str], against: list[str], types: list[int], sec
     meeting = MEETINGS[seed % 2]
     tr = Trainer(Lineup((t,), (t,)), seed=seed, vision=False)
     tr.world.place_ball((10.0, 8.0))  # out of the way
-    motions = [Motion(t, WalkEngine(t, load_walk_sets([*default_param_files(t), *files])))
-               for files in (params, against)]
+    motions = [walk_motion(t, files) for files in (params, against)]
     for i, (x, y, h) in enumerate(starts(meeting, rng)):
-        q0 = motions[i].walk.update(0.0, 0.0, 0.0).targets
-        motions[i].reset()
-        q0 = np.where(np.isnan(q0), 0.0, q0) + rng.normal(0.0, 0.01, q0.shape)
-        tr.world.place_robot(i, x, y, h, joints=q0)
-        tr.world.settle_height(i)
+        place_standing(tr, i, motions[i], x, y, h, rng)
     fell: list[float | None] = [None, None]
     closest = math.inf
     stand = round(STAND / CYCLE)
