@@ -114,6 +114,12 @@ VARIANTS: dict[str, TeamConfig] = {
     # meet (benchmarks.bump) and in 4 vs 4 games (+0.12 +- 0.05 goals), but -0.07 +- 0.10 over
     # 40 full games against villa (benchmarks/results/balance-vs-villa/).
     "Balance": TeamConfig(walk_files=("walk_balance.txt",)),
+    # Softer joints while walking (joint_kp 11 1/s, skills/data/walk_soft.txt): fewer falls
+    # when robots walk into each other (benchmarks.bump), a tenth slower forward.
+    "Soft": TeamConfig(walk_files=("walk_soft.txt",)),
+    # The swing foot lifted 30 mm instead of 40 (skills/data/walk_lowstep.txt): fewer falls
+    # when robots walk into each other (benchmarks.bump).
+    "LowStep": TeamConfig(walk_files=("walk_lowstep.txt",)),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and
