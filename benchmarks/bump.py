@@ -29,6 +29,16 @@ side by side -0.097 +- 0.047); with the landed foot's offset dropped within a cy
 Tried by hand, not kept: A stopping its forward push while its torso leaned back beyond
 0.04 or 0.06 rad fell as often head-on (0.72 and 0.75 against B's 0.73 and 0.76).
 
+Single walk parameters against the shipped walk (400 trials, seed 0, `--workers 1`, every
+type; the shipped value in brackets): softer joints fell less, joint_kp 11 -0.198 +- 0.036
+(A 0.51 against B 0.71; head-on -0.225), 8 -0.165, 15 -0.117, and stiffer more, 30 +0.072
++- 0.033 [21.2; type 3 18]; a lower step fell less, step_height 30 mm -0.150 +- 0.037, 25
+-0.135, 20 -0.142, and 55 +0.037 [40; type 3 52.6]; arms in (arm_roll 0) -0.068 +- 0.035,
+out (0.4) +0.018 [0.15]; walk_height 175 mm -0.028 [185.5; types 1 and 3 216 and 233]. The two did not add
+up: joint_kp 11 with step_height 30 -0.175, 14 with 30 -0.138. In games the bumps did not
+carry over: villa:Soft (joint_kp 11) fell 25.9 times a game against villa's 21.4 and lost
+-0.21 +- 0.10 over 24 full games (`benchmarks/results/soft-vs-villa/`).
+
     python -m benchmarks.bump [--params FILE ...] [--against FILE ...] [--trials 200]
                               [--seed 0] [--types 0,1,2,3,4] [--seconds 7] [--workers 2]
 """

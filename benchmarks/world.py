@@ -51,6 +51,15 @@ whole match, `--seconds 60 --repeats 10 --clock cpu`, quiet machine: 2.16x real 
 481 -> 82 us a cycle); `benchmarks.team --only villa --games 2 --workers 2`: 2.14x and
 2.15x, agents 262 us mean and 886 us p99 (wall).
 
+On a faster machine of the same kind (2 cores AMD EPYC, December 6, 2026, quiet; every
+figure about 1.7x the ones above), whole match, `--home villa --away villa --seconds 60
+--repeats 10`: 6.25x real time (96.0 s wall), physics 39.8 s (15.1x alone, 332 us a
+step), physics plus server 13.5x, agents 51.1 s (77.5 us a cycle, wall): the match takes
+2.4x its physics alone. The first 60 s with `--stages --clock cpu`: agent 83-91 us, world
+model 39-42 (particle filter 16, hearing 3.5, perception 3.2, IMU 3.2, ball filter 2.7),
+decision 14-15, body 22-24 (walk_step 8). Batches there: 24 games of villa:Soft against
+villa on 2 workers took 107 s of wall time each, about 67 games an hour.
+
 Where a physics step goes (MuJoCo's own timers, villa against villa 30 s into a match, 22
 robots, nv 630, 62 contacts, 246 constraint rows in 23 islands; December 2026): 566 us a
 step, of which the constraint solver 261 (Newton, 1.28 iterations on average), positions
