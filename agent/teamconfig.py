@@ -115,7 +115,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # 40 full games against villa (benchmarks/results/balance-vs-villa/).
     "Balance": TeamConfig(walk_files=("walk_balance.txt",)),
     # Softer joints while walking (joint_kp 11 1/s, skills/data/walk_soft.txt): fewer falls
-    # when robots walk into each other (benchmarks.bump), a tenth slower forward.
+    # when robots walk into each other (benchmarks.bump), a tenth slower forward; but more
+    # falls in games and -0.21 +- 0.10 over 24 against villa (benchmarks/results/soft-vs-villa/).
     "Soft": TeamConfig(walk_files=("walk_soft.txt",)),
     # The swing foot lifted 30 mm instead of 40 (skills/data/walk_lowstep.txt): fewer falls
     # when robots walk into each other (benchmarks.bump).
