@@ -119,7 +119,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # falls in games and -0.21 +- 0.10 over 24 against villa (benchmarks/results/soft-vs-villa/).
     "Soft": TeamConfig(walk_files=("walk_soft.txt",)),
     # The swing foot lifted 30 mm instead of 40 (skills/data/walk_lowstep.txt): fewer falls
-    # when robots walk into each other (benchmarks.bump).
+    # when robots walk into each other (benchmarks.bump) and in games (19.9 against 22.8 a
+    # game), but +0.03 +- 0.05 over 80 against villa (benchmarks/results/lowstep-vs-villa/).
     "LowStep": TeamConfig(walk_files=("walk_lowstep.txt",)),
 }
 
