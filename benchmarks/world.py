@@ -58,7 +58,9 @@ step), physics plus server 13.5x, agents 51.1 s (77.5 us a cycle, wall): the mat
 2.4x its physics alone. The first 60 s with `--stages --clock cpu`: agent 83-91 us, world
 model 39-42 (particle filter 16, hearing 3.5, perception 3.2, IMU 3.2, ball filter 2.7),
 decision 14-15, body 22-24 (walk_step 8). Batches there: 24 games of villa:Soft against
-villa on 2 workers took 107 s of wall time each, about 67 games an hour.
+villa on 2 workers took 107 s of wall time each, about 67 games an hour (80 of
+villa:LowStep against villa: 70 minutes); `benchmarks.team --only villa --games 2 --workers
+2`: 5.72x real time a match, agents 86.1 us mean and 292 us p99 (wall).
 
 Where a physics step goes (MuJoCo's own timers, villa against villa 30 s into a match, 22
 robots, nv 630, 62 contacts, 246 constraint rows in 23 islands; December 2026): 566 us a
