@@ -34,10 +34,12 @@ type; the shipped value in brackets): softer joints fell less, joint_kp 11 -0.19
 (A 0.51 against B 0.71; head-on -0.225), 8 -0.165, 15 -0.117, and stiffer more, 30 +0.072
 +- 0.033 [21.2; type 3 18]; a lower step fell less, step_height 30 mm -0.150 +- 0.037, 25
 -0.135, 20 -0.142, and 55 +0.037 [40; type 3 52.6]; arms in (arm_roll 0) -0.068 +- 0.035,
-out (0.4) +0.018 [0.15]; walk_height 175 mm -0.028 [185.5; types 1 and 3 216 and 233]. The two did not add
-up: joint_kp 11 with step_height 30 -0.175, 14 with 30 -0.138. In games the bumps did not
-carry over: villa:Soft (joint_kp 11) fell 25.9 times a game against villa's 21.4 and lost
--0.21 +- 0.10 over 24 full games (`benchmarks/results/soft-vs-villa/`).
+out (0.4) +0.018 [0.15]; walk_height 175 mm -0.028 [185.5; types 1 and 3 216 and 233].
+The two did not add up: joint_kp 11 with step_height 30 -0.175, 14 with 30 -0.138. In
+games the bumps did not carry over: villa:Soft (joint_kp 11) fell 25.9 times a game
+against villa's 21.4 and lost -0.21 +- 0.10 over 24 full games, and villa:LowStep
+(step_height 30) fell 19.9 against 22.8 and won nothing, +0.03 +- 0.05 over 80
+(`benchmarks/results/soft-vs-villa/`, `lowstep-vs-villa/`).
 
     python -m benchmarks.bump [--params FILE ...] [--against FILE ...] [--trials 200]
                               [--seed 0] [--types 0,1,2,3,4] [--seconds 7] [--workers 2]
