@@ -123,7 +123,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # game), but +0.03 +- 0.05 over 80 against villa (benchmarks/results/lowstep-vs-villa/).
     "LowStep": TeamConfig(walk_files=("walk_lowstep.txt",)),
     # LowStep's 30 mm step with longer backward and side steps per type (skills/data/
-    # walk_agile_type*.txt): backward 1.09-1.63x and sideways 1.00-1.33x as fast (issue 47).
+    # walk_agile_type*.txt): backward 1.09-1.63x and sideways 1.00-1.33x as fast (issue 47),
+    # but +0.08 +- 0.05 over 80 against villa (benchmarks/results/agile-vs-villa/).
     "Agile": TeamConfig(walk_files=("walk_agile_type{type}.txt",)),
 }
 
