@@ -122,10 +122,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # when robots walk into each other (benchmarks.bump) and in games (19.9 against 22.8 a
     # game), but +0.03 +- 0.05 over 80 against villa (benchmarks/results/lowstep-vs-villa/).
     "LowStep": TeamConfig(walk_files=("walk_lowstep.txt",)),
-    # LowStep's 30 mm step with longer backward and side steps per type (skills/data/
-    # walk_agile_type*.txt): backward 1.09-1.63x and sideways 1.00-1.33x as fast (issue 47),
-    # but +0.08 +- 0.05 over 80 against villa (benchmarks/results/agile-vs-villa/).
-    "Agile": TeamConfig(walk_files=("walk_agile_type{type}.txt",)),
+    # LowStep's 30 mm step with longer backward and side steps (skills/data/walk_agile*.txt):
+    # backward 1.09-1.63x and sideways 1.00-1.33x as fast (issue 47), but +0.08 +- 0.05 over
+    # 80 against villa (benchmarks/results/agile-vs-villa/).
+    "Agile": TeamConfig(walk_files=("walk_lowstep.txt", "walk_agile.txt", "walk_agile_type{type}.txt")),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

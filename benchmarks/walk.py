@@ -40,9 +40,9 @@ with the stand free on the course plus this benchmark's zigzag, turns and steps
 type 0 0.465 m/s, type 1 0.407, the course a quarter faster, no falls on it or the zigzag.
 Issue 47 also asks 1.3x backward and sideways: backward_factor past about 0.5 walks no faster
 backward on types 0, 2 and 3, and side steps of 68 mm with the low step (76 without) tip type 2
-over. villa:Agile's sets (`skills/data/walk_agile_typeT.txt`: a 30 mm step, backward_factor
-0.5, side steps 62-72 mm) walk backward 1.09-1.63x and sideways 1.00-1.33x as fast, with no
-falls in 20 course and 20 zigzag runs a type (December 6, 2026).
+over. villa:Agile's sets (`skills/data/walk_agile.txt` after walk_lowstep.txt: a 30 mm step,
+backward_factor 0.5, side steps 62-72 mm) walk backward 1.09-1.63x and sideways 1.00-1.33x as
+fast, with no falls in 20 course and 20 zigzag runs a type (December 6, 2026).
 
     python -m benchmarks.walk [--types 0,1,2,3,4] [--seconds 10] [--speed-runs N]
                               [--course-runs N] [--params FILE ...] [--skip-speeds]
