@@ -58,6 +58,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 
 import numpy as np
@@ -71,13 +72,17 @@ from optimization.robot import new_robot
 LOADED = 10.0  # N under a sole before it counts as bearing weight
 LEG = tuple(f"lj{i}" for i in range(1, 7))
 STAND = 0.5  # s standing before the walk starts
+DIRECTIONS = {"forward": (1.0, 0.0), "backward": (-1.0, 0.0), "left": (0.0, 1.0)}  # walk inputs (x, y)
 
 
 def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0,
-                params: list[str] | None = None, cap_scale: float = 1.0, torque_scale: float = 1.0) -> dict:
-    """One straight walk at full forward input; the figures of the module docstring.
+                params: list[str] | None = None, cap_scale: float = 1.0, torque_scale: float = 1.0,
+                direction: str = "forward") -> dict:
+    """One straight walk at full input in `direction` (DIRECTIONS); the figures of the
+    module docstring, speeds and steps along that direction.
     cap_scale, torque_scale: the joints' speed cap and the motors' torque limit scaled,
     for diagnosis (`server.trainer.Trainer.scale_motors`; not the league's robot)."""
+    ix, iy = DIRECTIONS[direction]
     tr, mo = new_robot(robot_type, walk_params=params or [])
     if cap_scale != 1.0 or torque_scale != 1.0:
         tr.scale_motors(cap_scale, torque_scale)
@@ -92,7 +97,8 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
     for _ in range(round(STAND / 0.02)):
         tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0, set_name))})
     height = float(d.xpos[p.torso][2])
-    x0 = world.player_pose(0)[0]
+    x0, y0, h0 = world.player_pose(0)
+    ux, uy = math.cos(h0) * ix - math.sin(h0) * iy, math.sin(h0) * ix + math.cos(h0) * iy  # world
     n = round(seconds / 0.02)
     at_cap = np.zeros(len(legs))
     at_limit = np.zeros(len(legs))
@@ -111,9 +117,9 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
         feet = (forces[:2] + (forces[2:4] if len(forces) == 4 else 0.0)) > LOADED  # type 4: sole + toe
         double += bool(feet.all())
         flight += not feet.any()
-        v = mo.walk_step(percept, 1.0, 0.0, 0.0, set_name)
+        v = mo.walk_step(percept, ix, iy, 0.0, set_name)
         factor += mo.walk.step_factor
-        odometry += mo.last.odometry[0]
+        odometry += ix * mo.last.odometry[0] + iy * mo.last.odometry[1]
         if mo.walk.swing != swing:  # the feet swapped: a new step
             steps, swing = steps + 1, mo.walk.swing
         cmd = np.clip(v[legs], -cap, cap)
@@ -131,8 +137,11 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
             fell, n = True, k + 1
             break
     dt = n * 0.02
-    distance = world.player_pose(0)[0] - x0
+    x1, y1, _ = world.player_pose(0)
+    distance = (x1 - x0) * ux + (y1 - y0) * uy
     wp = mo.walk.sets[set_name]
+    step_bound = {"forward": wp.max_step_size_x, "backward": wp.backward_factor * wp.max_step_size_x,
+                  "left": wp.max_step_size_y}[direction]
     joints = {}
     for j in LEG:
         both = [i for i, li in enumerate(legs) if names[li][1:] == j]
@@ -140,11 +149,12 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
                      "at_torque_limit": round(float(at_limit[both].mean()) / n, 3),
                      "lag_rad_s": round(float(lag[both].mean()) / n, 3),
                      "peak_rad_s": round(float(peak[both].max()), 2)}
-    return {"type": robot_type, "set": set_name, "seconds": round(dt, 2), "fell": fell,
+    return {"type": robot_type, "set": set_name, "direction": direction, "seconds": round(dt, 2),
+            "fell": fell,
             "speed_m_s": round(distance / dt, 3),
             "planned_m_s": round(odometry / dt, 3), "steps_per_s": round(steps / dt, 2),
             "step_length_m": round(distance / steps, 4) if steps else None,
-            "bound_m_s": round(wp.max_step_size_x / wp.phase_length, 3),
+            "bound_m_s": round(step_bound / wp.phase_length, 3), "step_bound_m": round(step_bound, 4),
             "max_step_size_x_m": round(wp.max_step_size_x, 4), "phase_length_s": round(wp.phase_length, 4),
             "step_factor": round(factor / n, 3),
             "stance_slip_m_per_step": round(slip / steps, 4) if steps else None,
@@ -159,7 +169,7 @@ def table(rows: list[dict]) -> str:
     for r in rows:
         scaled = (f" [cap x{r['cap_scale']:g}, torque x{r['torque_scale']:g}]"
                   if (r["cap_scale"], r["torque_scale"]) != (1.0, 1.0) else "")
-        out.append(f"type {r['type']} {r['set']}{scaled}: {r['speed_m_s']:.3f} m/s "
+        out.append(f"type {r['type']} {r['set']} {r['direction']}{scaled}: {r['speed_m_s']:.3f} m/s "
                    f"(planned {r['planned_m_s']:.3f}, "
                    f"bound {r['bound_m_s']:.3f}), "
                    f"{r['steps_per_s']:.2f} steps/s x {r['step_length_m'] or 0:.3f} m, step factor "
@@ -178,6 +188,8 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.walklimits", description=__doc__.splitlines()[0])
     ap.add_argument("--types", default="0,1,2,3,4", help="robot types, comma-separated (default all)")
     ap.add_argument("--sets", default="go_to_target,sprint", help="walk sets, comma-separated")
+    ap.add_argument("--direction", default="forward", choices=sorted(DIRECTIONS),
+                    help="the walk input: full forward, backward or to the left (default forward)")
     ap.add_argument("--seconds", type=float, default=10.0, help="s of walking (default 10)")
     ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
                     help="walk parameter files loaded after the shipped ones")
@@ -197,7 +209,8 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     for t in types:
         for s in sets:
-            rows.append(walk_limits(t, s, args.seconds, args.params, args.cap_scale, args.torque_scale))
+            rows.append(walk_limits(t, s, args.seconds, args.params, args.cap_scale, args.torque_scale,
+                                    args.direction))
             print(json.dumps(rows[-1]), flush=True)
     print()
     print(table(rows))

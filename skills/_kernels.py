@@ -241,14 +241,14 @@ WALK_PARAMS = (
     "shift_amount", "step_height", "pid_roll", "pid_tilt", "swing_ankle_offset", "arm_pitch",
     "pid_arm_x", "arm_roll", "toe_amplitude", "toe_phase_offset", "toe_const_offset",
     "ankle_amplitude", "ankle_phase_offset", "ankle_const_offset", "balance_step_x", "balance_step_y",
-    "balance_deadband", "balance_fade",
+    "balance_deadband", "balance_fade", "backward_fraction_still",
 )
 (P_MAX_X, P_MAX_Y, P_MAX_A, P_BACKWARD, P_PID_X, P_PID_Y, P_PID_ROT, P_COM_NORMAL, P_COM_ACCEPT,
  P_PHASE_LENGTH, P_HEADING_GAIN, P_WALK_HEIGHT, P_F_STILL, P_F_GROUND, P_F_MOVING, P_F_AIR,
  P_GYRO_ROLL, P_GYRO_PITCH, P_GYRO_PITCH_WALK, P_STEEPNESS, P_COM_X, P_FWD_OFFSET, P_FWD_FACTOR,
  P_SHIFT, P_STEP_HEIGHT, P_PID_ROLL, P_PID_TILT, P_SWING_ANKLE, P_ARM_PITCH, P_PID_ARM_X,
  P_ARM_ROLL, P_TOE_AMP, P_TOE_PHASE, P_TOE_CONST, P_ANKLE_AMP, P_ANKLE_PHASE,
- P_ANKLE_CONST, P_BAL_X, P_BAL_Y, P_BAL_DEAD, P_BAL_FADE) = range(len(WALK_PARAMS))
+ P_ANKLE_CONST, P_BAL_X, P_BAL_Y, P_BAL_DEAD, P_BAL_FADE, P_BACK_STILL) = range(len(WALK_PARAMS))
 
 # The walk engine's state vector: phase (start, end, now), the swinging foot (0 left,
 # 1 right), step sizes x, y (m) and theta (rad), walking (0/1), s since zero velocity was
@@ -312,14 +312,18 @@ def walk_feet(s: np.ndarray, p: np.ndarray, hips: np.ndarray, standing: bool, fe
     gyro_roll, gyro_pitch = fade * p[P_GYRO_ROLL], fade * p[P_GYRO_PITCH]
     gyro_pitch += p[P_GYRO_PITCH_WALK] * _min2(1.0, abs(sx) / _max2(p[P_MAX_X], 1e-9))
     zfrac = 0.5 * (1 - math.cos(2 * math.pi * (t - fg) / fa)) if fg <= t <= fg + fa else 0.0
-    if t < fs:
+    xs, xm = fs, fm  # a backward swing may start sooner (backward_fraction_still; < 0: fs)
+    if sx < 0.0 and p[P_BACK_STILL] >= 0.0:
+        xs = _min2(p[P_BACK_STILL], 0.9)
+        xm = _min2(p[P_F_MOVING], 1.0 - xs)
+    if t < xs:
         xfrac = -0.5 - t
-    elif t < fs + fm:
+    elif t < xs + xm:
         c = p[P_STEEPNESS]
-        sg = _sigmoid(c * (-0.5 + (t - fs) / fm))
+        sg = _sigmoid(c * (-0.5 + (t - xs) / xm))
         s0, s1 = _sigmoid(-0.5 * c), _sigmoid(0.5 * c)
         sg = (sg - s0) / (s1 - s0)
-        xfrac = (-0.5 - fs) + sg * ((1.5 - fs - fm) - (-0.5 - fs))
+        xfrac = (-0.5 - xs) + sg * ((1.5 - xs - xm) - (-0.5 - xs))
     else:
         xfrac = 1.5 - t
     x_stance, x_swing = sx * (0.5 - t), sx * xfrac

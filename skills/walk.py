@@ -75,6 +75,9 @@ WALK_SCHEMA: dict[str, str] = {
     "balance_step_x": "1", "balance_step_y": "1", "balance_deadband": "rad",
     # The landed foot's offset fades over this fraction of the next step (the torso moves over it).
     "balance_fade": "1",
+    # A backward swing's fraction_still (< 0: fraction_still). Lowering the foot and swinging
+    # it back both extend the hip, so a late backward swing meets the joints' speed cap.
+    "backward_fraction_still": "1",
 }
 
 # The named parameter sets of section 4.1 and the prefix each has in parameter files.
@@ -136,6 +139,7 @@ class WalkParams:
     balance_step_y: float = 0.0
     balance_deadband: float = 0.0
     balance_fade: float = 1.0
+    backward_fraction_still: float = -1.0
 
     @classmethod
     def from_values(cls, values: Mapping[str, float], base: WalkParams | None = None) -> WalkParams:

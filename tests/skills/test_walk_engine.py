@@ -134,17 +134,19 @@ def _same(a, b) -> bool:
     return a.shape == b.shape and a.tobytes() == b.tobytes()
 
 
-@pytest.mark.parametrize("robot_type, balance", [(0, False), (4, False), (2, True)])
-def test_compiled_walk_matches_the_python_reference_bit_for_bit(robot_type, balance):
+@pytest.mark.parametrize("robot_type, balance, back_still",
+                         [(0, False, -1.0), (4, False, -1.0), (2, True, -1.0), (1, False, 0.05)])
+def test_compiled_walk_matches_the_python_reference_bit_for_bit(robot_type, balance, back_still):
     """The compiled cycle (`skills._kernels.walk_update`) against the plain Python engine
     it replaced: starts, stops, every direction, set changes, gyro and CoM feedback (and
-    balance steps)."""
+    balance steps, and an early backward swing)."""
     from tests.skills.walk_reference import WalkEngineRef
 
     sets = load_walk_sets(default_param_files(robot_type))
     if balance:
         sets = {k: replace(p, balance_step_x=1.5, balance_step_y=0.8, balance_deadband=0.02, balance_fade=0.4)
                 for k, p in sets.items()}
+    sets = {k: replace(p, backward_fraction_still=back_still) for k, p in sets.items()}
     e, ref = WalkEngine(robot_type, sets), WalkEngineRef(robot_type, sets)
     rng = np.random.default_rng(robot_type)
     sets = list(WALK_SETS)

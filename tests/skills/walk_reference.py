@@ -223,14 +223,19 @@ class WalkEngineRef:
         zfrac = 0.5 * (1 - math.cos(2 * math.pi * (t - fg) / fa)) if fg <= t <= fg + fa else 0.0
         # Forward: the stance foot slides back uniformly (the torso moves over it);
         # the swing foot swings forward on a sigmoid while in the moving fraction.
-        if t < fs:
+        # A backward swing may start moving sooner (backward_fraction_still; < 0: as fs).
+        xs, xm = fs, fm
+        if sx < 0 and p.backward_fraction_still >= 0:
+            xs = min(p.backward_fraction_still, 0.9)
+            xm = min(p.fraction_moving, 1.0 - xs)
+        if t < xs:
             xfrac = -0.5 - t
-        elif t < fs + fm:
+        elif t < xs + xm:
             c = p.swing_steepness
-            s = _sigmoid(c * (-0.5 + (t - fs) / fm))
+            s = _sigmoid(c * (-0.5 + (t - xs) / xm))
             s0, s1 = _sigmoid(-0.5 * c), _sigmoid(0.5 * c)
             s = (s - s0) / (s1 - s0)
-            xfrac = (-0.5 - fs) + s * ((1.5 - fs - fm) - (-0.5 - fs))
+            xfrac = (-0.5 - xs) + s * ((1.5 - xs - xm) - (-0.5 - xs))
         else:
             xfrac = 1.5 - t
         x_stance, x_swing = sx * (0.5 - t), sx * xfrac
