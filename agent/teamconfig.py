@@ -126,6 +126,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # backward 1.09-1.63x and sideways 1.00-1.33x as fast (issue 47), but +0.08 +- 0.05 over
     # 80 against villa (benchmarks/results/agile-vs-villa/).
     "Agile": TeamConfig(walk_files=("walk_lowstep.txt", "walk_agile.txt", "walk_agile_type{type}.txt")),
+    # A backward swing begun as the step begins (skills/data/walk_backswing.txt): backward
+    # 1.7-2.6x as fast, every other walk the same (issue 47).
+    "BackSwing": TeamConfig(walk_files=("walk_backswing.txt",)),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and
