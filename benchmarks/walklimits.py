@@ -1,13 +1,15 @@
 """Where a walk's speed is bounded: steps, joint speed caps, motor torque, foot contact.
 
-For each robot type and walk set, the robot walks straight ahead at full forward
-input for `--seconds` s from the stand (as `benchmarks.walk` measures speeds), its
-control reading only its percepts, and the benchmark reads ground truth:
+For each robot type and walk set, the robot walks straight ahead (`--direction`:
+forward, backward or left) at full input for `--seconds` s from the stand (as
+`benchmarks.walk` measures speeds), its control reading only its percepts, and the
+benchmark reads ground truth (speeds and steps along the direction):
 
 * speed (m/s), steps per second and step length (m) against the speed the walk
   planned (its own odometry: where it put the feet) and the set's bound,
   `max_step_size_x / phase_length` (a full step every phase; a step lasts a whole
-  number of 20 ms cycles, so 0.19 s steps come 5 a second);
+  number of 20 ms cycles, so 0.19 s steps come 5 a second; backward the step is
+  `backward_factor` times that, sideways `max_step_size_y`);
 * the walk's mean step factor: the share of the asked step it takes while the
   CoM the joints measure strays from the one its targets expect
   (`max_normal_com_error` .. `max_acceptable_com_error`; 1 is the whole step);
@@ -49,8 +51,23 @@ both down: it runs, and each flight carries it past its planned step. Knee and
 ankle pitch sit at the cap 38-44% of cycles, as before. The walk's odometry
 (what the world model dead-reckons with) then says 0.38 m/s.
 
+Backward (December 6, 2026): the shipped go-to-target sets walk backward at their bound
+(type 0: 0.115 m/s, 22 mm steps), and a longer backward step walked no faster (backward_factor
+0.7: 38 mm planned, 23 mm made, 0.119 m/s). The swing foot landed short: in the torso frame the
+feet were 12 mm apart at the swap instead of 38. Hip and knee pitch sat at the speed cap in the
+swing's last four cycles, and the hip was 14 deg short of its target at the swap. The swing
+ran late in the step (after `fraction_still`, 0.40), where the foot comes down. Lowering the
+foot and swinging it back both extend the hip, whereas walking forward the two cancel. With
+the backward swing begun at once (`backward_fraction_still` 0), type 0 walked backward at 0.274
+m/s with the shipped factor (0.307 at 0.5, 0.370 at 0.7, 0.416 at 1.0 with 18% of cycles in
+flight). Types 1-4 went from 0.134/0.131/0.105/0.133 to 0.229/0.245/0.278/0.235 m/s. The robot
+then walks about twice the step it plans: the torso pitches back by up to 4 deg over each
+stance. Sideways the sets walk at their bound (type 0: 0.281 m/s), and type 2's ankle roll
+(capped at 3.47 rad/s) sits at its cap 26% of cycles. A side step of 76 mm tipped type 2 over.
+With `fraction_still` 0.2 it walked 0.347 m/s, and type 0 0.376 (1.2x and 1.3x the shipped).
+
     python -m benchmarks.walklimits [--types 0,1,2,3,4] [--sets go_to_target,sprint]
-                                    [--seconds 10] [--params FILE ...]
+                                    [--direction forward] [--seconds 10] [--params FILE ...]
                                     [--cap-scale K] [--torque-scale K]
 """
 
