@@ -66,8 +66,18 @@ stance. Sideways the sets walk at their bound (type 0: 0.281 m/s), and type 2's 
 (capped at 3.47 rad/s) sits at its cap 26% of cycles. A side step of 76 mm tipped type 2 over.
 With `fraction_still` 0.2 it walked 0.347 m/s, and type 0 0.376 (1.2x and 1.3x the shipped).
 
+Slow (`--input`, type 0, go-to-target, 8 s): asked for 5% of a full step forward (15 mm/s
+planned) the robot walks backward at 0.075 m/s; at 30% it makes 0.048 of 0.093 planned, and
+30% backward makes 0.10 of 0.038 (0.18 with `backward_fraction_still` 0). Stepping in place,
+the swing foot lands 14 mm behind its target: the 40 mm lift's knee and ankle swing at the
+speed cap both ways, and the knee is still 9 deg bent when the foot comes down. A lower step
+drifts less (30 mm: -0.064 m/s, 25: -0.041, 20: -0.014) and walks slower at full input
+(0.319, 0.314, 0.305 against 0.345 m/s). The drift hides behind vision and feedback: the
+particle filter and `walk_toward` correct it.
+
     python -m benchmarks.walklimits [--types 0,1,2,3,4] [--sets go_to_target,sprint]
-                                    [--direction forward] [--seconds 10] [--params FILE ...]
+                                    [--direction forward] [--input 1] [--seconds 10]
+                                    [--params FILE ...]
                                     [--cap-scale K] [--torque-scale K]
 """
 
@@ -94,12 +104,13 @@ DIRECTIONS = {"forward": (1.0, 0.0), "backward": (-1.0, 0.0), "left": (0.0, 1.0)
 
 def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0,
                 params: list[str] | None = None, cap_scale: float = 1.0, torque_scale: float = 1.0,
-                direction: str = "forward") -> dict:
-    """One straight walk at full input in `direction` (DIRECTIONS); the figures of the
-    module docstring, speeds and steps along that direction.
+                direction: str = "forward", amount: float = 1.0) -> dict:
+    """One straight walk in `direction` (DIRECTIONS) at `amount` of the full input; the
+    figures of the module docstring, speeds and steps along that direction.
     cap_scale, torque_scale: the joints' speed cap and the motors' torque limit scaled,
     for diagnosis (`server.trainer.Trainer.scale_motors`; not the league's robot)."""
-    ix, iy = DIRECTIONS[direction]
+    dx, dy = DIRECTIONS[direction]  # unit, torso frame
+    ix, iy = amount * dx, amount * dy
     tr, mo = new_robot(robot_type, walk_params=params or [])
     if cap_scale != 1.0 or torque_scale != 1.0:
         tr.scale_motors(cap_scale, torque_scale)
@@ -115,7 +126,7 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
         tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0, set_name))})
     height = float(d.xpos[p.torso][2])
     x0, y0, h0 = world.player_pose(0)
-    ux, uy = math.cos(h0) * ix - math.sin(h0) * iy, math.sin(h0) * ix + math.cos(h0) * iy  # world
+    ux, uy = math.cos(h0) * dx - math.sin(h0) * dy, math.sin(h0) * dx + math.cos(h0) * dy  # world
     n = round(seconds / 0.02)
     at_cap = np.zeros(len(legs))
     at_limit = np.zeros(len(legs))
@@ -136,7 +147,7 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
         flight += not feet.any()
         v = mo.walk_step(percept, ix, iy, 0.0, set_name)
         factor += mo.walk.step_factor
-        odometry += ix * mo.last.odometry[0] + iy * mo.last.odometry[1]
+        odometry += dx * mo.last.odometry[0] + dy * mo.last.odometry[1]
         if mo.walk.swing != swing:  # the feet swapped: a new step
             steps, swing = steps + 1, mo.walk.swing
         cmd = np.clip(v[legs], -cap, cap)
@@ -166,7 +177,8 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
                      "at_torque_limit": round(float(at_limit[both].mean()) / n, 3),
                      "lag_rad_s": round(float(lag[both].mean()) / n, 3),
                      "peak_rad_s": round(float(peak[both].max()), 2)}
-    return {"type": robot_type, "set": set_name, "direction": direction, "seconds": round(dt, 2),
+    return {"type": robot_type, "set": set_name, "direction": direction, "input": amount,
+            "seconds": round(dt, 2),
             "fell": fell,
             "speed_m_s": round(distance / dt, 3),
             "planned_m_s": round(odometry / dt, 3), "steps_per_s": round(steps / dt, 2),
@@ -186,7 +198,8 @@ def table(rows: list[dict]) -> str:
     for r in rows:
         scaled = (f" [cap x{r['cap_scale']:g}, torque x{r['torque_scale']:g}]"
                   if (r["cap_scale"], r["torque_scale"]) != (1.0, 1.0) else "")
-        out.append(f"type {r['type']} {r['set']} {r['direction']}{scaled}: {r['speed_m_s']:.3f} m/s "
+        amount = f" x{r['input']:g}" if r["input"] != 1.0 else ""
+        out.append(f"type {r['type']} {r['set']} {r['direction']}{amount}{scaled}: {r['speed_m_s']:.3f} m/s "
                    f"(planned {r['planned_m_s']:.3f}, "
                    f"bound {r['bound_m_s']:.3f}), "
                    f"{r['steps_per_s']:.2f} steps/s x {r['step_length_m'] or 0:.3f} m, step factor "
@@ -207,6 +220,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--sets", default="go_to_target,sprint", help="walk sets, comma-separated")
     ap.add_argument("--direction", default="forward", choices=sorted(DIRECTIONS),
                     help="the walk input: full forward, backward or to the left (default forward)")
+    ap.add_argument("--input", type=float, default=1.0, metavar="K",
+                    help="the walk input's size, 0 < K <= 1 (default 1: full speed)")
     ap.add_argument("--seconds", type=float, default=10.0, help="s of walking (default 10)")
     ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
                     help="walk parameter files loaded after the shipped ones")
@@ -215,6 +230,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--torque-scale", type=float, default=1.0, metavar="K",
                     help="diagnosis: the motors' torque limit times K (not the league's robot)")
     args = ap.parse_args(argv)
+    if not 0 < args.input <= 1:
+        ap.error(f"--input must be in (0, 1], got {args.input}")
     if args.cap_scale <= 0 or args.torque_scale <= 0:
         ap.error(f"--cap-scale and --torque-scale must be positive, got {args.cap_scale} "
                  f"and {args.torque_scale}")
@@ -227,7 +244,7 @@ def main(argv: list[str] | None = None) -> int:
     for t in types:
         for s in sets:
             rows.append(walk_limits(t, s, args.seconds, args.params, args.cap_scale, args.torque_scale,
-                                    args.direction))
+                                    args.direction, args.input))
             print(json.dumps(rows[-1]), flush=True)
     print()
     print(table(rows))

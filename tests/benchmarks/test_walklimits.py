@@ -55,3 +55,11 @@ def test_an_early_backward_swing_walks_backward_faster(tmp_path):
     assert not late["fell"] and not soon["fell"]
     assert late["direction"] == "backward" and late["step_bound_m"] < late["max_step_size_x_m"]
     assert 0.05 < late["speed_m_s"] and soon["speed_m_s"] > 1.5 * late["speed_m_s"]
+
+
+def test_a_partial_input_plans_a_proportional_step_and_measures_along_the_direction():
+    full = walklimits.walk_limits(0, "go_to_target", seconds=3.0)
+    part = walklimits.walk_limits(0, "go_to_target", seconds=3.0, amount=0.3)
+    assert part["input"] == 0.3 and not part["fell"]
+    assert 0.2 * full["planned_m_s"] < part["planned_m_s"] < 0.4 * full["planned_m_s"]
+    assert part["bound_m_s"] == full["bound_m_s"]
