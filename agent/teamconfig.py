@@ -129,6 +129,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # A backward swing begun as the step begins (skills/data/walk_backswing.txt): backward
     # 1.7-2.6x as fast, every other walk the same (issue 47).
     "BackSwing": TeamConfig(walk_files=("walk_backswing.txt",)),
+    # The swing foot lifted 15 mm in place, 40 at a full step (skills/data/walk_slowlift.txt):
+    # a slow walk that goes where it is asked, not backward (issue 47).
+    "SlowLift": TeamConfig(walk_files=("walk_slowlift.txt",)),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

@@ -72,8 +72,8 @@ planned) the robot walks backward at 0.075 m/s; at 30% it makes 0.048 of 0.093 p
 the swing foot lands 14 mm behind its target: the 40 mm lift's knee and ankle swing at the
 speed cap both ways, and the knee is still 9 deg bent when the foot comes down. A lower step
 drifts less (30 mm: -0.064 m/s, 25: -0.041, 20: -0.014) and walks slower at full input
-(0.319, 0.314, 0.305 against 0.35 m/s; these over 8 s after the first). The drift hides behind vision and feedback: the
-particle filter and `walk_toward` correct it.
+(0.319, 0.314, 0.305 against 0.35 m/s; these over 8 s after the first). The drift hides
+behind vision and feedback: the particle filter and `walk_toward` correct it.
 
     python -m benchmarks.walklimits [--types 0,1,2,3,4] [--sets go_to_target,sprint]
                                     [--direction forward] [--input 1] [--seconds 10]

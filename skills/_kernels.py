@@ -241,14 +241,15 @@ WALK_PARAMS = (
     "shift_amount", "step_height", "pid_roll", "pid_tilt", "swing_ankle_offset", "arm_pitch",
     "pid_arm_x", "arm_roll", "toe_amplitude", "toe_phase_offset", "toe_const_offset",
     "ankle_amplitude", "ankle_phase_offset", "ankle_const_offset", "balance_step_x", "balance_step_y",
-    "balance_deadband", "balance_fade", "backward_fraction_still",
+    "balance_deadband", "balance_fade", "backward_fraction_still", "slow_step_height",
 )
 (P_MAX_X, P_MAX_Y, P_MAX_A, P_BACKWARD, P_PID_X, P_PID_Y, P_PID_ROT, P_COM_NORMAL, P_COM_ACCEPT,
  P_PHASE_LENGTH, P_HEADING_GAIN, P_WALK_HEIGHT, P_F_STILL, P_F_GROUND, P_F_MOVING, P_F_AIR,
  P_GYRO_ROLL, P_GYRO_PITCH, P_GYRO_PITCH_WALK, P_STEEPNESS, P_COM_X, P_FWD_OFFSET, P_FWD_FACTOR,
  P_SHIFT, P_STEP_HEIGHT, P_PID_ROLL, P_PID_TILT, P_SWING_ANKLE, P_ARM_PITCH, P_PID_ARM_X,
  P_ARM_ROLL, P_TOE_AMP, P_TOE_PHASE, P_TOE_CONST, P_ANKLE_AMP, P_ANKLE_PHASE,
- P_ANKLE_CONST, P_BAL_X, P_BAL_Y, P_BAL_DEAD, P_BAL_FADE, P_BACK_STILL) = range(len(WALK_PARAMS))
+ P_ANKLE_CONST, P_BAL_X, P_BAL_Y, P_BAL_DEAD, P_BAL_FADE, P_BACK_STILL,
+ P_SLOW_STEP_HEIGHT) = range(len(WALK_PARAMS))
 
 # The walk engine's state vector: phase (start, end, now), the swinging foot (0 left,
 # 1 right), step sizes x, y (m) and theta (rad), walking (0/1), s since zero velocity was
@@ -350,7 +351,7 @@ def walk_feet(s: np.ndarray, p: np.ndarray, hips: np.ndarray, standing: bool, fe
     tlead = 1 if sth > 0 else 0
     swing_yaw = groin if swing == tlead else abs(sth) - groin
     stance_yaw = abs(sth) * (1.0 - t) if stance == tlead else abs(sth) * t
-    z_swing = p[P_STEP_HEIGHT] * zfrac
+    z_swing = _lift(p, sx, sy, sth) * zfrac
     for j in range(2):
         if j == 0:
             side, xo, yo, out_y, yaw, z = swing, x_swing, y_swing, swing_out, swing_yaw, z_swing
@@ -372,6 +373,19 @@ def walk_feet(s: np.ndarray, p: np.ndarray, hips: np.ndarray, standing: bool, fe
             fade = _max2(0.0, 1.0 - t / _max2(p[P_BAL_FADE], 1e-9))
             f[0] += s[S_BAL_STANCE_X] * fade
             f[1] += s[S_BAL_STANCE_Y] * fade
+
+
+@njit
+def _lift(p: np.ndarray, sx: float, sy: float, sth: float) -> float:
+    """The swing foot's lift (m): step_height, or with slow_step_height >= 0 that height in
+    place growing to step_height with the step's largest share of its bound (x, y, turn)."""
+    h, low = p[P_STEP_HEIGHT], p[P_SLOW_STEP_HEIGHT]
+    if low < 0.0:
+        return h
+    bx = p[P_MAX_X] * (p[P_BACKWARD] if sx < 0.0 else 1.0)
+    r = _max2(abs(sx) / _max2(bx, 1e-9),
+              _max2(abs(sy) / _max2(p[P_MAX_Y], 1e-9), abs(sth) / _max2(p[P_MAX_A], 1e-9)))
+    return low + (h - low) * _min2(r, 1.0)
 
 
 @njit

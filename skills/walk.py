@@ -78,6 +78,10 @@ WALK_SCHEMA: dict[str, str] = {
     # A backward swing's fraction_still (< 0: fraction_still). Lowering the foot and swinging
     # it back both extend the hip, so a late backward swing meets the joints' speed cap.
     "backward_fraction_still": "1",
+    # The swing foot's lift in place, growing to step_height with the step (< 0: step_height).
+    # The 40 mm lift swings knee and ankle at their speed cap: stepping in place the foot
+    # landed behind its target and the robot drifted backward.
+    "slow_step_height": "mm",
 }
 
 # The named parameter sets of section 4.1 and the prefix each has in parameter files.
@@ -140,6 +144,7 @@ class WalkParams:
     balance_deadband: float = 0.0
     balance_fade: float = 1.0
     backward_fraction_still: float = -1.0
+    slow_step_height: float = -1.0
 
     @classmethod
     def from_values(cls, values: Mapping[str, float], base: WalkParams | None = None) -> WalkParams:

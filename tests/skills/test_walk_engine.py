@@ -134,19 +134,21 @@ def _same(a, b) -> bool:
     return a.shape == b.shape and a.tobytes() == b.tobytes()
 
 
-@pytest.mark.parametrize("robot_type, balance, back_still",
-                         [(0, False, -1.0), (4, False, -1.0), (2, True, -1.0), (1, False, 0.05)])
-def test_compiled_walk_matches_the_python_reference_bit_for_bit(robot_type, balance, back_still):
+@pytest.mark.parametrize("robot_type, balance, back_still, slow_lift",
+                         [(0, False, -1.0, -1.0), (4, False, -1.0, -1.0), (2, True, -1.0, -1.0),
+                          (1, False, 0.05, 0.02)])
+def test_compiled_walk_matches_the_python_reference_bit_for_bit(robot_type, balance, back_still, slow_lift):
     """The compiled cycle (`skills._kernels.walk_update`) against the plain Python engine
     it replaced: starts, stops, every direction, set changes, gyro and CoM feedback (and
-    balance steps, and an early backward swing)."""
+    balance steps, an early backward swing and a lift growing with the step)."""
     from tests.skills.walk_reference import WalkEngineRef
 
     sets = load_walk_sets(default_param_files(robot_type))
     if balance:
         sets = {k: replace(p, balance_step_x=1.5, balance_step_y=0.8, balance_deadband=0.02, balance_fade=0.4)
                 for k, p in sets.items()}
-    sets = {k: replace(p, backward_fraction_still=back_still) for k, p in sets.items()}
+    sets = {k: replace(p, backward_fraction_still=back_still, slow_step_height=slow_lift)
+            for k, p in sets.items()}
     e, ref = WalkEngine(robot_type, sets), WalkEngineRef(robot_type, sets)
     rng = np.random.default_rng(robot_type)
     sets = list(WALK_SETS)
@@ -258,3 +260,28 @@ def test_a_balance_step_carries_over_into_the_stance_without_a_jump():
 
     balanced = replace(base, balance_step_x=0.5, balance_step_y=0.5, balance_deadband=0.03)
     assert largest_jump(balanced) < largest_jump(base) + 0.01
+
+
+def _peak_lift(params: WalkParams, x: float) -> float:
+    """Highest swing ankle over a step of a walk at input x (m above the stance ankle)."""
+    e = WalkEngine(0, {"go_to_target": params})
+    for _ in range(300):  # the step size settles (pid_step_size_x 0.023 a cycle)
+        e.update(x, 0.0, 0.0)
+    lift = 0.0
+    for _ in range(12):
+        e.update(x, 0.0, 0.0)
+        feet = e.foot_targets()
+        stance = "r" if e.swing == "l" else "l"
+        lift = max(lift, float(feet[e.swing][0][2] - feet[stance][0][2]))
+    return lift
+
+
+def test_a_slow_lift_grows_with_the_step():
+    base = load_walk_sets(default_param_files(0))["go_to_target"]
+    slow = replace(base, slow_step_height=0.5 * base.step_height)
+    # in place half the lift (the sampled peak of the cosine is the same share of either height)
+    assert _peak_lift(slow, 0.0001) == pytest.approx(0.5 * _peak_lift(base, 0.0001), rel=0.01)
+    assert _peak_lift(slow, 1.0) == pytest.approx(_peak_lift(base, 1.0), rel=0.01)  # a full step
+    assert 0.6 < _peak_lift(slow, 0.5) / _peak_lift(base, 0.5) < 0.9
+    # backward steps count against their own bound (backward_factor of the forward one)
+    assert _peak_lift(slow, -1.0) == pytest.approx(_peak_lift(base, -1.0), rel=0.01)

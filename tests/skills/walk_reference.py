@@ -197,6 +197,17 @@ class WalkEngineRef:
 
     # -------------------------------------------------------------- foot targets
 
+    @staticmethod
+    def _lift(p, sx: float, sy: float, sth: float) -> float:
+        """The swing foot's lift (m): slow_step_height in place growing to step_height with
+        the step's share of its bound (< 0: step_height throughout)."""
+        if p.slow_step_height < 0:
+            return p.step_height
+        bx = p.max_step_size_x * (p.backward_factor if sx < 0 else 1.0)
+        r = max(abs(sx) / max(bx, 1e-9), max(abs(sy) / max(p.max_step_size_y, 1e-9),
+                                               abs(sth) / max(p.max_step_size_angle, 1e-9)))
+        return p.slow_step_height + (p.step_height - p.slow_step_height) * min(r, 1.0)
+
     def foot_targets(self, standing: bool = False) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """(ankle position, foot rpy) per side in the torso frame for the current phase."""
         p = self.params
@@ -270,7 +281,7 @@ class WalkEngineRef:
         stance_yaw = abs(sth) * (1.0 - t) if stance == tlead else abs(sth) * t
         out = {}
         for side, xo, yo, out_y, yaw, z in (
-            (swing, x_swing, y_swing, swing_out, swing_yaw, p.step_height * zfrac),
+            (swing, x_swing, y_swing, swing_out, swing_yaw, self._lift(p, sx, sy, sth) * zfrac),
             (stance, x_stance, y_stance, stance_out, stance_yaw, 0.0),
         ):
             hip = self.hip[side]
