@@ -126,9 +126,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # backward 1.09-1.63x and sideways 1.00-1.33x as fast (issue 47), but +0.08 +- 0.05 over
     # 80 against villa (benchmarks/results/agile-vs-villa/).
     "Agile": TeamConfig(walk_files=("walk_lowstep.txt", "walk_agile.txt", "walk_agile_type{type}.txt")),
-    # A backward swing begun as the step begins (skills/data/walk_backswing.txt): backward
-    # 1.7-2.6x as fast, every other walk the same (issue 47).
-    "BackSwing": TeamConfig(walk_files=("walk_backswing.txt",)),
+    # A backward step swung after fraction_still, as villa had it until December 6, 2026
+    # (skills/data/walk_latebackward.txt): backward 0.11-0.14 m/s instead of 0.23-0.28.
+    "LateBackward": TeamConfig(walk_files=("walk_latebackward.txt",)),
     # The swing foot lifted 15 mm in place, 40 at a full step (skills/data/walk_slowlift.txt):
     # a slow walk that goes where it is asked, not backward (issue 47).
     "SlowLift": TeamConfig(walk_files=("walk_slowlift.txt",)),

@@ -44,9 +44,10 @@ over. villa:Agile's sets (`skills/data/walk_agile.txt` after walk_lowstep.txt: a
 backward_factor 0.5, side steps 62-72 mm) walk backward 1.09-1.63x and sideways 1.00-1.33x as
 fast, with no falls in 20 course and 20 zigzag runs a type (December 6, 2026). What held
 backward walking was the swing's timing (`benchmarks.walklimits --direction backward`): begun
-as the step begins (`backward_fraction_still` 0, `skills/data/walk_backswing.txt`, villa:BackSwing)
-the shipped sets walk backward 0.277/0.231/0.246/0.280/0.237 m/s (1.7-2.6x), every other
-figure the same, no course run with a fall in 100 and one zigzag run in 100 (type 3).
+as the step begins (`backward_fraction_still` 0, in walk_defaults.txt since December 6, 2026;
+villa:LateBackward walks as before) the sets walk backward 0.277/0.231/0.246/0.280/0.237 m/s
+(1.7-2.6x), every other figure the same, no course run with a fall in 100 and one zigzag run
+in 100 (type 3).
 
     python -m benchmarks.walk [--types 0,1,2,3,4] [--seconds 10] [--speed-runs N]
                               [--course-runs N] [--params FILE ...] [--skip-speeds]

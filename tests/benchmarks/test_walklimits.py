@@ -48,10 +48,11 @@ def test_a_higher_speed_cap_is_measured_against_the_raised_cap():
 def test_an_early_backward_swing_walks_backward_faster(tmp_path):
     """Lowering the foot and swinging it back both extend the hip: a backward swing late in
     the step meets the speed cap and lands short; one begun at once does not."""
-    early = tmp_path / "back.txt"
+    early, late_file = tmp_path / "early.txt", tmp_path / "late.txt"
     early.write_text("backward_fraction_still\t0\n")
-    late = walklimits.walk_limits(0, "go_to_target", seconds=3.0, direction="backward")
-    soon = walklimits.walk_limits(0, "go_to_target", seconds=3.0, direction="backward", params=[str(early)])
+    late_file.write_text("backward_fraction_still\t-1\n")  # as fraction_still
+    late, soon = (walklimits.walk_limits(0, "go_to_target", seconds=3.0, direction="backward",
+                                         params=[str(f)]) for f in (late_file, early))
     assert not late["fell"] and not soon["fell"]
     assert late["direction"] == "backward" and late["step_bound_m"] < late["max_step_size_x_m"]
     assert 0.05 < late["speed_m_s"] and soon["speed_m_s"] > 1.5 * late["speed_m_s"]
