@@ -51,7 +51,7 @@ both down: it runs, and each flight carries it past its planned step. Knee and
 ankle pitch sit at the cap 38-44% of cycles, as before. The walk's odometry
 (what the world model dead-reckons with) then says 0.38 m/s.
 
-Backward (December 6, 2026): the shipped go-to-target sets walk backward at their bound
+Backward (December 6, 2026): the go-to-target sets then shipped walked backward at their bound
 (type 0: 0.115 m/s, 22 mm steps), and a longer backward step walked no faster (backward_factor
 0.7: 38 mm planned, 23 mm made, 0.119 m/s). The swing foot landed short: in the torso frame the
 feet were 12 mm apart at the swap instead of 38. Hip and knee pitch sat at the speed cap in the
@@ -62,9 +62,10 @@ the backward swing begun at once (`backward_fraction_still` 0), type 0 walked ba
 m/s with the shipped factor (0.307 at 0.5, 0.370 at 0.7, 0.416 at 1.0 with 18% of cycles in
 flight). Types 1-4 went from 0.134/0.131/0.105/0.133 to 0.229/0.245/0.278/0.235 m/s. The robot
 then walks about twice the step it plans: the torso pitches back by up to 4 deg over each
-stance. Sideways the sets walk at their bound (type 0: 0.281 m/s), and type 2's ankle roll
-(capped at 3.47 rad/s) sits at its cap 26% of cycles. A side step of 76 mm tipped type 2 over.
-With `fraction_still` 0.2 it walked 0.347 m/s, and type 0 0.376 (1.2x and 1.3x the shipped).
+stance. Villa walks so since (walk_defaults.txt). Sideways the sets walk at their bound (type
+0: 0.281 m/s), and type 2's ankle roll (capped at 3.47 rad/s) sits at its cap 26% of cycles. A
+side step of 76 mm tipped type 2 over. With `fraction_still` 0.2 it walked 0.347 m/s, and type
+0 0.376 (1.2x and 1.3x the shipped).
 
 Slow (`--input`, type 0, go-to-target, 8 s): asked for 5% of a full step forward (15 mm/s
 planned) the robot walks backward at 0.075 m/s; at 30% it makes 0.048 of 0.093 planned, and
