@@ -130,7 +130,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # (skills/data/walk_latebackward.txt): backward 0.11-0.14 m/s instead of 0.23-0.28.
     "LateBackward": TeamConfig(walk_files=("walk_latebackward.txt",)),
     # The swing foot lifted 15 mm in place, 40 at a full step (skills/data/walk_slowlift.txt):
-    # a slow walk that goes where it is asked, not backward (issue 47).
+    # a slow walk that goes where it is asked, not backward (issue 47); -0.10 +- 0.07 over 40
+    # against villa (benchmarks/results/slowlift-vs-villa/).
     "SlowLift": TeamConfig(walk_files=("walk_slowlift.txt",)),
 }
 
