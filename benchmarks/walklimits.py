@@ -86,7 +86,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 
 import numpy as np
@@ -94,6 +93,7 @@ import numpy as np
 from benchmarks.args import robot_types
 from benchmarks.machine import machine
 from models import nao
+from models.geometry import rotate
 from models.messages import SEEN_PARTS, Action
 from optimization.robot import new_robot
 
@@ -127,7 +127,7 @@ def walk_limits(robot_type: int, set_name: str = "sprint", seconds: float = 10.0
         tr.step({0: Action(mo.walk_step(tr.percepts()[0], 0.0, 0.0, 0.0, set_name))})
     height = float(d.xpos[p.torso][2])
     x0, y0, h0 = world.player_pose(0)
-    ux, uy = math.cos(h0) * dx - math.sin(h0) * dy, math.sin(h0) * dx + math.cos(h0) * dy  # world
+    ux, uy = rotate(dx, dy, h0)  # world
     n = round(seconds / 0.02)
     at_cap = np.zeros(len(legs))
     at_limit = np.zeros(len(legs))
