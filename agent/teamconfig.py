@@ -133,6 +133,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # a slow walk that goes where it is asked, not backward (issue 47); -0.10 +- 0.07 over 40
     # against villa (benchmarks/results/slowlift-vs-villa/).
     "SlowLift": TeamConfig(walk_files=("walk_slowlift.txt",)),
+    # The dribble straight at the goal, lined up with the funnel (villa without its cone): with
+    # the early backward swing, going round the ball is as quick as the cone (tests/agent/test_body.py).
+    "Straight": TeamConfig(dribble_cone=0.0),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and
