@@ -33,6 +33,7 @@ class TeamConfig:
     dribble_cone: float = math.radians(60.0)
     dribble_cone_lead: float | None = None  # ... only when, as the player takes the ball on, an
     # opponent is within its distance to the ball plus this (m): a race; held for the possession
+    dribble_cone_inward: bool = False  # the cone never turns toward the touchline on the ball's side
     # Line a dribble up walking round the ball and into its line (Body._funnel), not stopping at
     # a spot behind it: villa:Funnel beat villa without it (villa:NoFunnel) by +0.43 +- 0.12
     # goals over 40 full games (benchmarks/results/funnel-vs-villa/).
@@ -136,6 +137,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # The dribble straight at the goal, lined up with the funnel (villa without its cone): with
     # the early backward swing, going round the ball is as quick as the cone (tests/agent/test_body.py).
     "Straight": TeamConfig(dribble_cone=0.0),
+    # The cone turning the dribble only toward the field's long axis: with villa's cone the ball
+    # spent a fifth of a villa-villa match within 2 m of a touchline (benchmarks.playstats).
+    "ConeIn": TeamConfig(dribble_cone_inward=True),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

@@ -202,6 +202,27 @@ def test_a_dribble_cone_is_the_goal_near_the_goal_and_near_the_touch_line():
     assert np.array_equal(st.approach_target(by_line, goal, (0.0, 0.0), cone), goal)
 
 
+def test_an_inward_cone_turns_only_toward_the_fields_long_axis():
+    cone = math.radians(60.0)
+    rng = np.random.default_rng(11)
+    turned = 0
+    for _ in range(300):
+        ball = rng.uniform((-fld.HALF_LENGTH, -fld.HALF_WIDTH), (fld.HALF_LENGTH, fld.HALF_WIDTH))
+        me = ball + rng.uniform(-2.0, 2.0, 2)
+        goal = st.dribble_target(view(me=(*me, 0.0), ball=ball))
+        both = st.approach_target(ball, goal, me, cone)
+        t = st.approach_target(ball, goal, me, cone, inward=True)
+        outward = (math.sin(_heading(ball, both)) - math.sin(_heading(ball, goal))) * ball[1] > 0.0
+        assert np.array_equal(t, goal if outward else both)
+        turned += not np.array_equal(t, goal)
+    assert turned > 50  # it still turns, toward the middle
+    # coming from the middle to a ball on the +y side: the plain cone pushes it toward the touch line
+    ball, me = np.array([0.0, 5.0]), (0.0, 3.0)
+    goal = st.dribble_target(view(me=(*me, 0.0), ball=ball))
+    assert st.approach_target(ball, goal, me, cone)[1] > ball[1]
+    assert np.array_equal(st.approach_target(ball, goal, me, cone, inward=True), goal)
+
+
 def test_the_kickoff_taker_can_be_left_out():
     near = st.Mate(3, -2.0, 2.0, 0.0)
     v = view(me=(-0.2, 0.0, 0.0), ball=(1.5, 1.5), mates=(near,), unum=2)
