@@ -136,9 +136,11 @@ VARIANTS: dict[str, TeamConfig] = {
     "SlowLift": TeamConfig(walk_files=("walk_slowlift.txt",)),
     # The dribble straight at the goal, lined up with the funnel (villa without its cone): with
     # the early backward swing, going round the ball is as quick as the cone (tests/agent/test_body.py).
+    # -0.04 +- 0.14 over 26 against villa, territory -1.48 +- 0.59 m (benchmarks/results/straight-vs-villa/).
     "Straight": TeamConfig(dribble_cone=0.0),
     # The cone turning the dribble only toward the field's long axis: with villa's cone the ball
     # spent a fifth of a villa-villa match within 2 m of a touchline (benchmarks.playstats).
+    # -0.15 +- 0.11 over 20 against villa, territory -1.50 +- 0.69 m (benchmarks/results/conein-vs-villa/).
     "ConeIn": TeamConfig(dribble_cone_inward=True),
 }
 
