@@ -265,7 +265,7 @@ class Player:
             self._race = lead is None or st.opponent_may_reach_first(view, lead)
         cone = cfg.dribble_cone if self._race else 0.0  # free: straight at the goal
         if dribble and view.mode == PM.PLAY_ON:
-            return Dribble(tuple(st.dribble_target(view, cone, cfg.dribble_cone_inward)))
+            return self._dribble(view, cone)
         reach = max(self.distances)
         shot = st.shot_target(ball, view.opponents, reach)
         if shot is not None:
@@ -273,11 +273,17 @@ class Player:
             names = tuple(n for n, k in self.body.kicks.items() if k.spec.distance >= need)
             return Kick((float(shot[0]), float(shot[1])), names)
         if not cfg.passes and cfg.dribble and view.mode == PM.PLAY_ON:
-            return Dribble(tuple(st.dribble_target(view, cone, cfg.dribble_cone_inward)))
+            return self._dribble(view, cone)
         mates = np.array([(m.x, m.y) for m in view.mates]).reshape(-1, 2)
         target, dist = st.pass_target(ball, self.distances, view.opponents, mates)
         names = tuple(n for n, k in self.body.kicks.items() if abs(k.spec.distance - dist) < 0.15)
         return Kick((float(target[0]), float(target[1])), names)
+
+    def _dribble(self, view: st.TeamView, cone: float) -> Dribble:
+        """A dribble toward the goal, its line turned by the team's dribble cone (rad)."""
+        cfg = self.config
+        fade = st.CONE_FADE if cfg.dribble_cone_fade is None else cfg.dribble_cone_fade
+        return Dribble(tuple(st.dribble_target(view, cone, cfg.dribble_cone_inward, fade)))
 
     def _kickoff(self, view: st.TeamView) -> SkillRequest:
         """Our kickoff: a short pass to the side the fewest opponents guard (D.2.3)."""

@@ -439,11 +439,12 @@ def opponent_may_reach_first(view: TeamView, lead: float) -> bool:
     return bool(np.any((d < mine + lead) & ~view.opponents_fallen))
 
 
-def dribble_target(view: TeamView, cone: float = 0.0, inward: bool = False) -> np.ndarray:
+def dribble_target(view: TeamView, cone: float = 0.0, inward: bool = False,
+                   fade: tuple[float, float] = CONE_FADE) -> np.ndarray:
     """Where to dribble: the goal's center, or across the box toward the far post when
     an opponent stands on the line to it (a reflex, D.1.5). With `cone` (rad), the line
     turns from there toward the one the player comes along (`approach_target`; with
-    `inward`, never toward the nearer touchline)."""
+    `inward`, never toward the nearer touchline; `fade` as there)."""
     ball = view.ball
     best, best_gap = OPP_GOAL, -math.inf
     for y in (0.0, 0.6, -0.6):
@@ -451,25 +452,26 @@ def dribble_target(view: TeamView, cone: float = 0.0, inward: bool = False) -> n
         gap = _clearance(ball, t, view.opponents)
         if gap > best_gap + 0.3:
             best, best_gap = t, gap
-    return approach_target(ball, best, view.pose, cone, inward) if cone > 0.0 else best
+    return approach_target(ball, best, view.pose, cone, inward, fade) if cone > 0.0 else best
 
 
 def approach_target(ball: np.ndarray, goal: np.ndarray, me: Sequence[float], cone: float,
-                    inward: bool = False) -> np.ndarray:
+                    inward: bool = False, fade: tuple[float, float] = CONE_FADE) -> np.ndarray:
     """A dribble target (team frame, m) on the line from the ball toward `goal`, turned
     toward the line from the player at `me` through the ball by CONE_SHARE of the angle
     between them, at most `cone` rad: a player beside or ahead of the ball pushes it on
     sooner instead of going round it, and a player dribbling on (its approach is its last
-    push) steers back toward the goal plan by plan. The turn fades out over CONE_FADE near
-    the opponents' goal; `goal` itself when the turned line would leave the field within
-    CONE_AHEAD m. With `inward`, a turn that would point the line further toward the touchline
-    on the ball's side is not taken (`goal` itself)."""
+    push) steers back toward the goal plan by plan. The turn fades out over `fade` (m from
+    the opponents' goal: none within the first, all of it beyond the second); `goal` itself
+    when the turned line would leave the field within CONE_AHEAD m. With `inward`, a turn
+    that would point the line further toward the touchline on the ball's side is not taken
+    (`goal` itself)."""
     b = np.asarray(ball, dtype=float)
     gx, gy = float(goal[0] - b[0]), float(goal[1] - b[1])
     ax, ay = float(b[0] - me[0]), float(b[1] - me[1])
     if math.hypot(ax, ay) < 1e-3:
         return np.asarray(goal, dtype=float)
-    near, far = CONE_FADE
+    near, far = fade
     limit = cone * min(max((float(np.hypot(*(OPP_GOAL - b))) - near) / (far - near), 0.0), 1.0)
     heading = math.atan2(gy, gx)
     turn = min(max(CONE_SHARE * wrap(math.atan2(ay, ax) - heading), -limit), limit)

@@ -34,6 +34,8 @@ class TeamConfig:
     dribble_cone_lead: float | None = None  # ... only when, as the player takes the ball on, an
     # opponent is within its distance to the ball plus this (m): a race; held for the possession
     dribble_cone_inward: bool = False  # the cone never turns toward the touchline on the ball's side
+    # m from their goal: no cone within the first, all of it beyond the second (None: strategy.CONE_FADE)
+    dribble_cone_fade: tuple[float, float] | None = None
     # Line a dribble up walking round the ball and into its line (Body._funnel), not stopping at
     # a spot behind it: villa:Funnel beat villa without it (villa:NoFunnel) by +0.43 +- 0.12
     # goals over 40 full games (benchmarks/results/funnel-vs-villa/).
@@ -142,6 +144,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # spent a fifth of a villa-villa match within 2 m of a touchline (benchmarks.playstats).
     # -0.15 +- 0.11 over 20 against villa, territory -1.50 +- 0.69 m (benchmarks/results/conein-vs-villa/).
     "ConeIn": TeamConfig(dribble_cone_inward=True),
+    # The cone fading out farther from their goal (none within 6 m, all of it beyond 10): against
+    # posture villa put the ball over the end line 5.5 times a game, the cone-less villa 2.1.
+    "ConeFade": TeamConfig(dribble_cone_fade=(6.0, 10.0)),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

@@ -202,6 +202,22 @@ def test_a_dribble_cone_is_the_goal_near_the_goal_and_near_the_touch_line():
     assert np.array_equal(st.approach_target(by_line, goal, (0.0, 0.0), cone), goal)
 
 
+def test_a_dribble_cone_fades_out_over_the_distances_it_is_given():
+    cone = math.radians(60.0)
+    for d, share in ((4.0, 0.0), (7.0, 0.25), (9.0, 0.75), (11.0, 1.0)):
+        ball = np.array([fld.HALF_LENGTH - d, 0.0])
+        me = (ball[0], -2.0)  # beside the ball, 90 deg off the goal's line: a turn of 54 deg unfaded
+        goal = st.dribble_target(view(me=(*me, 0.0), ball=ball))
+        t = st.approach_target(ball, goal, me, cone, fade=(6.0, 10.0))
+        turn = abs(wrap(_heading(ball, t) - _heading(ball, goal)))
+        assert turn == pytest.approx(min(share * cone, st.CONE_SHARE * math.pi / 2), abs=1e-9)
+    # the default fade (2 m to 5 m) leaves the whole turn 7 m from the goal
+    ball = np.array([fld.HALF_LENGTH - 7.0, 0.0])
+    goal = st.dribble_target(view(ball=ball))
+    t = st.approach_target(ball, goal, (ball[0], -2.0), cone)
+    assert abs(wrap(_heading(ball, t) - _heading(ball, goal))) == pytest.approx(st.CONE_SHARE * math.pi / 2)
+
+
 def test_an_inward_cone_turns_only_toward_the_fields_long_axis():
     cone = math.radians(60.0)
     rng = np.random.default_rng(11)
