@@ -245,7 +245,7 @@ class Player:
             return self._kickoff(view)
         if (view.ours and view.mode != PM.PLAY_ON and view.time - self._mode_since > RESTART_HURRY
                 and self.config.dribble and not self.body.busy):  # the restart's time runs out: touch it now
-            return Dribble(tuple(st.dribble_target(view)))
+            return Dribble(tuple(st.dribble_target(view, finish=self.config.dribble_finish)))
         if self.body.busy and self._kick is not None:
             return self._kick[2]
         if self._kick is not None and float(np.hypot(*(self._kick[1] - ball))) < REPLAN_MOVE:
@@ -283,7 +283,8 @@ class Player:
         """A dribble toward the goal, its line turned by the team's dribble cone (rad)."""
         cfg = self.config
         fade = st.CONE_FADE if cfg.dribble_cone_fade is None else cfg.dribble_cone_fade
-        return Dribble(tuple(st.dribble_target(view, cone, cfg.dribble_cone_inward, fade)))
+        target = st.dribble_target(view, cone, cfg.dribble_cone_inward, fade, cfg.dribble_finish)
+        return Dribble(tuple(target))
 
     def _kickoff(self, view: st.TeamView) -> SkillRequest:
         """Our kickoff: a short pass to the side the fewest opponents guard (D.2.3)."""

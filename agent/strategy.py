@@ -48,6 +48,15 @@ MIN_SHOT_ANGLE = math.radians(8.0)  # rad: the goal mouth must look at least thi
 CONE_SHARE = 0.6
 CONE_AHEAD = 2.0
 CONE_FADE = (2.0, 5.0)
+# A finishing dribble (`dribble_target`'s `finish`): the aims across the mouth (m from its
+# middle, behind the goal line), the clearance (m) under which an aim's line counts as
+# blocked, the least margin (m) inside a post where the line must cross the goal line, how
+# near the goal line (m) a ball that misses so is centered first, and where to (team frame, m).
+FINISH_AIMS = (0.0, 0.6, -0.6, 0.85, -0.85)
+FINISH_CLEAR = 0.35
+FINISH_POST_MARGIN = 0.2
+FINISH_ZONE = 3.0
+CUTBACK = np.array([fld.HALF_LENGTH - 1.2, 0.0])
 
 
 @dataclass(frozen=True)
@@ -440,19 +449,37 @@ def opponent_may_reach_first(view: TeamView, lead: float) -> bool:
 
 
 def dribble_target(view: TeamView, cone: float = 0.0, inward: bool = False,
-                   fade: tuple[float, float] = CONE_FADE) -> np.ndarray:
+                   fade: tuple[float, float] = CONE_FADE, finish: bool = False) -> np.ndarray:
     """Where to dribble: the goal's center, or across the box toward the far post when
     an opponent stands on the line to it (a reflex, D.1.5). With `cone` (rad), the line
     turns from there toward the one the player comes along (`approach_target`; with
-    `inward`, never toward the nearer touchline; `fade` as there)."""
+    `inward`, never toward the nearer touchline; `fade` as there).
+
+    With `finish`, the aims are FINISH_AIMS and a blocked line (clearance under
+    FINISH_CLEAR) gives way to any clearer one; a ball whose line to its aim would cross
+    the goal line outside the posts (beside the goal, within FINISH_ZONE of the end line)
+    is pushed toward CUTBACK, in front of the goal, instead."""
     ball = view.ball
     best, best_gap = OPP_GOAL, -math.inf
-    for y in (0.0, 0.6, -0.6):
+    clear = FINISH_CLEAR if finish else 0.0
+    for y in FINISH_AIMS if finish else (0.0, 0.6, -0.6):
         t = np.array([fld.HALF_LENGTH + 0.5, y])
         gap = _clearance(ball, t, view.opponents)
-        if gap > best_gap + 0.3:
+        if gap > best_gap + 0.3 or (best_gap < clear and gap > best_gap):
             best, best_gap = t, gap
+    if finish and ball[0] > fld.HALF_LENGTH - FINISH_ZONE and not _crosses_mouth(ball, best):
+        return CUTBACK.copy()
     return approach_target(ball, best, view.pose, cone, inward, fade) if cone > 0.0 else best
+
+
+def _crosses_mouth(ball: np.ndarray, aim: np.ndarray) -> bool:
+    """The line from `ball` to `aim` (behind the opponents' goal line) crosses that line
+    at least FINISH_POST_MARGIN inside the posts."""
+    bx, by = float(ball[0]), float(ball[1])
+    if bx >= fld.HALF_LENGTH:
+        return abs(by) <= fld.GOAL_WIDTH / 2 - FINISH_POST_MARGIN
+    y = by + (float(aim[1]) - by) * (fld.HALF_LENGTH - bx) / (float(aim[0]) - bx)
+    return abs(y) <= fld.GOAL_WIDTH / 2 - FINISH_POST_MARGIN
 
 
 def approach_target(ball: np.ndarray, goal: np.ndarray, me: Sequence[float], cone: float,

@@ -40,6 +40,9 @@ class TeamConfig:
     # a spot behind it: villa:Funnel beat villa without it (villa:NoFunnel) by +0.43 +- 0.12
     # goals over 40 full games (benchmarks/results/funnel-vs-villa/).
     dribble_funnel: bool = True
+    # Near their goal, aim the dribble past a blocker and center a ball beside the goal first
+    # (strategy.dribble_target's `finish`)
+    dribble_finish: bool = False
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
@@ -149,6 +152,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # +0.08 +- 0.04 over 40 against villa (3:0), +5.25 +- 0.16 over 8 against posture
     # (benchmarks/results/conefade-vs-villa/, conefade-vs-posture/).
     "ConeFade": TeamConfig(dribble_cone_fade=(6.0, 10.0)),
+    # Near their goal the dribble aims past a blocker (the far corners too) and centers a ball
+    # beside the goal before pushing it at the mouth: against posture villa put the ball over
+    # the end line 5.5 times a game, into the standing goalie or from beside a post.
+    "Finish": TeamConfig(dribble_finish=True),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

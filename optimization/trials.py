@@ -311,6 +311,40 @@ def first_touch(robot_type: int, config: TeamConfig, seed: int, ball: tuple[floa
 
 
 @dataclass(frozen=True)
+class Finish:
+    """A villa player's finish against a standing goalie: how it ended ("goal", "out" over
+    the end line or side line, or None: the ball still in play), s after play on, and falls."""
+
+    outcome: str | None
+    time: float
+    falls: int
+
+
+def finish(robot_type: int, config: TeamConfig, seed: int, ball: tuple[float, float],
+           start: tuple[float, float], seconds: float = 30.0) -> Finish:
+    """Play on with a free ball at `ball` (field frame, m) near the right goal, whose posture
+    goalie stands where it was beamed, and the left team's player 2 (`robot_type`, playing
+    `config`) standing at `start` facing the ball: it does what the team does with the ball,
+    from its percepts, until a goal, an out or `seconds`."""
+    m = Match(VillaFactory(config), PostureAgent, Lineup((0, robot_type), (0,)), half_time=300, seed=seed)
+    for _ in range(60):  # the beams and the first settling
+        m.step()
+    w = m.world
+    b = np.array(ball, dtype=float)
+    place_player(m, w.player("L", 2), start[0], start[1], math.atan2(b[1] - start[1], b[0] - start[0]))
+    w.place_ball((float(b[0]), float(b[1])))
+    ref = m.referee
+    ref.set_play_mode(PlayMode.PLAY_ON)
+    seen, falls = len(ref.events), ref.falls["L"]
+    for k in range(round(seconds / CYCLE)):
+        m.step()
+        ended = next((e.kind for e in ref.events[seen:] if e.kind in ("goal", "out")), None)
+        if ended is not None:
+            return Finish(ended, round((k + 1) * CYCLE, 6), int(ref.falls["L"] - falls))
+    return Finish(None, seconds, int(ref.falls["L"] - falls))
+
+
+@dataclass(frozen=True)
 class Duel:
     """One duel for a free ball: how far it went toward the left team's attacking goal
     (m, +x of the field), the time each side was the last to have touched it (possession,

@@ -338,3 +338,35 @@ def test_avoid_equals_numpy():
             sides.append(_numpy_avoid(me, target, moved))
         assert any(np.allclose(got, s, rtol=1e-12, atol=1e-7) for s in sides), (me, target, obstacles)
     assert edges < 100  # the knife edge is rare
+
+
+def test_a_finishing_dribble_aims_past_a_goalie_standing_in_front_of_the_ball():
+    ball = np.array([fld.HALF_LENGTH - 1.0, 0.0])  # where a goal kick's ball lies
+    keeper = [(fld.HALF_LENGTH - 0.48, 0.02)]
+    plain = st.dribble_target(view(me=(ball[0] - 1.0, 0.0, 0.0), ball=ball, opponents=keeper))
+    aim = st.dribble_target(view(me=(ball[0] - 1.0, 0.0, 0.0), ball=ball, opponents=keeper), finish=True)
+    gap = st._clearance(ball, aim, np.array(keeper))
+    assert st._clearance(ball, plain, np.array(keeper)) < st.FINISH_CLEAR  # the plain aim grazes it
+    assert gap > st._clearance(ball, plain, np.array(keeper)) + 0.05
+    assert abs(aim[1]) == pytest.approx(max(st.FINISH_AIMS))
+
+
+def test_a_finishing_dribble_centers_a_ball_beside_the_goal_first():
+    beside = np.array([fld.HALF_LENGTH - 0.3, fld.GOAL_WIDTH / 2 + 0.4])
+    plain = st.dribble_target(view(me=(beside[0] - 1.0, beside[1], 0.0), ball=beside))
+    assert plain[0] > fld.HALF_LENGTH  # straight at the mouth, whose line misses it
+    aim = st.dribble_target(view(me=(beside[0] - 1.0, beside[1], 0.0), ball=beside), finish=True)
+    assert np.array_equal(aim, st.CUTBACK)
+    in_front = np.array([fld.HALF_LENGTH - 1.5, 0.3])
+    aim = st.dribble_target(view(ball=in_front), finish=True)
+    assert aim[0] > fld.HALF_LENGTH and abs(aim[1]) <= fld.GOAL_WIDTH / 2
+
+
+def test_a_finishing_dribble_changes_nothing_away_from_their_goal():
+    rng = np.random.default_rng(5)
+    cone = math.radians(60.0)
+    for _ in range(300):
+        ball = rng.uniform((-fld.HALF_LENGTH, -fld.HALF_WIDTH), (fld.HALF_LENGTH - st.FINISH_ZONE, fld.HALF_WIDTH))
+        me = ball + rng.uniform(-2.0, 2.0, 2)
+        v = view(me=(*me, 0.0), ball=ball)  # no opponents: every line is clear
+        assert np.array_equal(st.dribble_target(v, cone, finish=True), st.dribble_target(v, cone))
