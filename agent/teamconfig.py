@@ -149,7 +149,7 @@ VARIANTS: dict[str, TeamConfig] = {
     "ConeIn": TeamConfig(dribble_cone_inward=True),
     # The cone fading out farther from their goal (none within 6 m, all of it beyond 10): against
     # posture villa put the ball over the end line 5.5 times a game, the cone-less villa 2.1.
-    # +0.08 +- 0.04 over 40 against villa (3:0), +5.25 +- 0.16 over 8 against posture
+    # +0.06 +- 0.04 over 80 against villa (8:3), +5.25 +- 0.16 over 8 against posture
     # (benchmarks/results/conefade-vs-villa/, conefade-vs-posture/).
     "ConeFade": TeamConfig(dribble_cone_fade=(6.0, 10.0)),
     # Near their goal the dribble aims past a blocker (the far corners too) and centers a ball
