@@ -456,21 +456,19 @@ def dribble_target(view: TeamView, cone: float = 0.0, inward: bool = False,
     `inward`, never toward the nearer touchline; `fade` as there).
 
     With `finish`, the aims are FINISH_AIMS and a blocked line (clearance under
-    FINISH_CLEAR) gives way to any clearer one; within FINISH_ZONE of the end line only
-    aims whose line crosses the goal line inside the posts count, and a ball with none
-    (beside the goal) is pushed toward CUTBACK, in front of the goal, instead."""
+    FINISH_CLEAR) gives way to any clearer one; a ball whose line to its aim would cross
+    the goal line outside the posts (beside the goal, within FINISH_ZONE of the end line)
+    is pushed toward CUTBACK, in front of the goal, instead."""
     ball = view.ball
-    aims = [np.array([fld.HALF_LENGTH + 0.5, y]) for y in (FINISH_AIMS if finish else (0.0, 0.6, -0.6))]
-    if finish and ball[0] > fld.HALF_LENGTH - FINISH_ZONE:
-        aims = [t for t in aims if _crosses_mouth(ball, t)]
-        if not aims:
-            return CUTBACK.copy()
     best, best_gap = OPP_GOAL, -math.inf
     clear = FINISH_CLEAR if finish else 0.0
-    for t in aims:
+    for y in FINISH_AIMS if finish else (0.0, 0.6, -0.6):
+        t = np.array([fld.HALF_LENGTH + 0.5, y])
         gap = _clearance(ball, t, view.opponents)
         if gap > best_gap + 0.3 or (best_gap < clear and gap > best_gap):
             best, best_gap = t, gap
+    if finish and ball[0] > fld.HALF_LENGTH - FINISH_ZONE and not _crosses_mouth(ball, best):
+        return CUTBACK.copy()
     return approach_target(ball, best, view.pose, cone, inward, fade) if cone > 0.0 else best
 
 
