@@ -366,7 +366,8 @@ def test_a_finishing_dribble_changes_nothing_away_from_their_goal():
     rng = np.random.default_rng(5)
     cone = math.radians(60.0)
     for _ in range(300):
-        ball = rng.uniform((-fld.HALF_LENGTH, -fld.HALF_WIDTH), (fld.HALF_LENGTH - st.FINISH_ZONE, fld.HALF_WIDTH))
+        far_x = fld.HALF_LENGTH - st.FINISH_ZONE
+        ball = rng.uniform((-fld.HALF_LENGTH, -fld.HALF_WIDTH), (far_x, fld.HALF_WIDTH))
         me = ball + rng.uniform(-2.0, 2.0, 2)
         v = view(me=(*me, 0.0), ball=ball)  # no opponents: every line is clear
         assert np.array_equal(st.dribble_target(v, cone, finish=True), st.dribble_target(v, cone))
