@@ -38,8 +38,8 @@ import sys
 
 import numpy as np
 
-from agent.teamconfig import VILLA, TeamConfig, UnknownVariant, variant, variant_name
-from benchmarks.args import robot_types
+from agent.teamconfig import TeamConfig
+from benchmarks.args import robot_types, villa_config
 from benchmarks.machine import machine
 from models import field as fld
 from optimization.trials import Finish, finish
@@ -89,11 +89,7 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--spot: one or more of {', '.join(SPOTS)}, got {args.spot!r}")
     if args.tries < 1 or args.seconds <= 0:
         ap.error(f"need --tries >= 1 and --seconds > 0 (got {args.tries}, {args.seconds})")
-    try:
-        name = variant_name(args.variant) if args.variant else "villa"
-        config = variant(name) if args.variant else VILLA
-    except UnknownVariant as e:
-        ap.error(str(e))
+    name, config = villa_config(ap, args.variant)
     for spot in spots:
         row = finish_stats(spot, config, args.tries, types, args.seed, args.seconds)
         print(json.dumps({"benchmark": "finishing", "team": name, **row}), flush=True)

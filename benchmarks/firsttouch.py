@@ -55,8 +55,8 @@ import sys
 
 import numpy as np
 
-from agent.teamconfig import VILLA, TeamConfig, UnknownVariant, variant, variant_name
-from benchmarks.args import robot_types
+from agent.teamconfig import TeamConfig
+from benchmarks.args import robot_types, villa_config
 from benchmarks.machine import machine
 from optimization.trials import first_touch
 
@@ -102,11 +102,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.tries < 1 or args.seconds <= 0 or not 0.3 <= args.near <= args.far or not 0 <= args.roll <= 5:
         ap.error(f"need --tries >= 1, --seconds > 0, 0.3 <= --near <= --far and 0 <= --roll <= 5 (got "
                  f"{args.tries}, {args.seconds}, {args.near}, {args.far}, {args.roll})")
-    try:
-        name = variant_name(args.variant) if args.variant else "villa"
-        config = variant(name) if args.variant else VILLA
-    except UnknownVariant as e:
-        ap.error(str(e))
+    name, config = villa_config(ap, args.variant)
     for t in types:
         row = touch_stats(t, config, args.tries, args.seed, args.seconds, args.near, args.far, args.roll)
         print(json.dumps({"benchmark": "firsttouch", "team": name, **row}), flush=True)
