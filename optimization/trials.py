@@ -1,10 +1,12 @@
 """Physics trials with ground truth: of single skills on the trainer (a goalie dive, a
 stance move (align), an IK kick, and the IK kick's backswing clearance (kinematics)),
-and of a villa player's first touch on a free ball in a match.
+and of a villa player's first touch on a free ball and finish against a standing goalie
+in a match.
 
 The benchmarks (`benchmarks.dive`, `benchmarks.align`, `benchmarks.ikkick`,
-`benchmarks.firsttouch`) and the physics tests run these same trials. Frames: the field frame of the
-trainer's world; a kick's offsets in the robot frame at its start (m, rad).
+`benchmarks.firsttouch`, `benchmarks.finishing`) and the physics tests run these same
+trials. Frames: the field frame of the trainer's world; a kick's offsets in the robot frame
+at its start (m, rad).
 """
 
 from __future__ import annotations
