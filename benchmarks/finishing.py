@@ -16,15 +16,15 @@ or `--seconds`. Two spots (`--spot`):
 Figures per spot: goals, outs and tries still in play at the end; the median time to a
 goal (s, over the tries that scored); falls. Ground truth throughout.
 
-What it showed (12 tries a spot, seed 0, types 0-4 in turn, December 6, 2026), villa ->
-villa:Finish (the dribble aiming past a blocker and centering a ball beside the goal
-first): goal-kick 8 goals, 2 outs, 2 still in play after 30 s -> 12 goals (median 13.3 ->
-13.1 s; falls 2 -> 1); beside 3 goals, 9 outs -> 8 goals, 1 out, 3 in play (median 9.9 ->
-19.4 s: centering takes time; falls 0 -> 3). villa pushed a ball beside the goal straight
-on, over the end line, and from the goal kick's spot aimed 0.17 m past the goalie's
-middle, into its side. Aiming instead at whichever corner the line still reaches from
-beside the goal: 6 goals, 6 outs (the dribble does not hit a narrow mouth from a steep
-angle).
+What it showed (12 tries a spot, seed 0, types 0-4 in turn, December 6, 2026),
+villa:NoFinish -> villa:Finish, villa since (the dribble aiming past a blocker and
+centering a ball beside the goal first): goal-kick 8 goals, 2 outs, 2 still in play after
+30 s -> 12 goals (median 13.3 -> 13.1 s; falls 2 -> 1); beside 3 goals, 9 outs -> 8 goals,
+1 out, 3 in play (median 9.9 -> 19.4 s: centering takes time; falls 0 -> 3).
+villa:NoFinish pushed a ball beside the goal straight on, over the end line, and from the
+goal kick's spot aimed 0.17 m past the goalie's middle, into its side. Aiming instead at
+whichever corner the line still reaches from beside the goal: 6 goals, 6 outs (the dribble
+does not hit a narrow mouth from a steep angle).
 
     python -m benchmarks.finishing [--spot goal-kick,beside] [--tries 12] [--seed 0]
                                    [--variant NAME] [--types 0,1,2,3,4] [--seconds 30]
