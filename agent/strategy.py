@@ -48,6 +48,7 @@ MIN_SHOT_ANGLE = math.radians(8.0)  # rad: the goal mouth must look at least thi
 CONE_SHARE = 0.6
 CONE_AHEAD = 2.0
 CONE_FADE = (2.0, 5.0)
+DRIBBLE_AIMS = (0.0, 0.6, -0.6)  # m from the mouth's middle, behind the goal line: a dribble's aims
 # A finishing dribble (`dribble_target`'s `finish`): the aims across the mouth (m from its
 # middle, behind the goal line), the clearance (m) under which an aim's line counts as
 # blocked, the least margin (m) inside a post where the line must cross the goal line, how
@@ -462,7 +463,7 @@ def dribble_target(view: TeamView, cone: float = 0.0, inward: bool = False,
     ball = view.ball
     best, best_gap = OPP_GOAL, -math.inf
     clear = FINISH_CLEAR if finish else 0.0
-    for y in FINISH_AIMS if finish else (0.0, 0.6, -0.6):
+    for y in FINISH_AIMS if finish else DRIBBLE_AIMS:
         t = np.array([fld.HALF_LENGTH + 0.5, y])
         gap = _clearance(ball, t, view.opponents)
         if gap > best_gap + 0.3 or (best_gap < clear and gap > best_gap):
@@ -476,9 +477,9 @@ def _crosses_mouth(ball: np.ndarray, aim: np.ndarray) -> bool:
     """The line from `ball` to `aim` (behind the opponents' goal line) crosses that line
     at least FINISH_POST_MARGIN inside the posts."""
     bx, by = float(ball[0]), float(ball[1])
-    if bx >= fld.HALF_LENGTH:
-        return abs(by) <= fld.GOAL_WIDTH / 2 - FINISH_POST_MARGIN
-    y = by + (float(aim[1]) - by) * (fld.HALF_LENGTH - bx) / (float(aim[0]) - bx)
+    y = by  # a ball on or past the line: where it lies
+    if bx < fld.HALF_LENGTH:
+        y += (float(aim[1]) - by) * (fld.HALF_LENGTH - bx) / (float(aim[0]) - bx)
     return abs(y) <= fld.GOAL_WIDTH / 2 - FINISH_POST_MARGIN
 
 

@@ -365,8 +365,8 @@ def test_a_finishing_dribble_centers_a_ball_beside_the_goal_first():
 def test_a_finishing_dribble_changes_nothing_away_from_their_goal():
     rng = np.random.default_rng(5)
     cone = math.radians(60.0)
+    far_x = fld.HALF_LENGTH - st.FINISH_ZONE
     for _ in range(300):
-        far_x = fld.HALF_LENGTH - st.FINISH_ZONE
         ball = rng.uniform((-fld.HALF_LENGTH, -fld.HALF_WIDTH), (far_x, fld.HALF_WIDTH))
         me = ball + rng.uniform(-2.0, 2.0, 2)
         v = view(me=(*me, 0.0), ball=ball)  # no opponents: every line is clear
