@@ -38,6 +38,9 @@ DRIBBLE_BEHIND = 0.25  # m behind the ball where a dribble lines up
 DRIBBLE_LANE = 0.1  # m either side of the ball's line: pushing on
 DRIBBLE_FACING = math.radians(25.0)  # rad of heading error while pushing on
 DRIBBLE_REACH = 0.6  # m from the ball: farther, line up again
+DRIBBLE_LEAD = 0.8  # m past the ball: pushing on, walk toward this point ...
+DRIBBLE_BRAKE = 0.5  # m ... slowing within this of it (walk_toward's braking radius)
+HOLD_SET = "dribble_hold"  # the walk set a held dribble pushes with (Body's dribble_hold)
 BALL_ROUND = 0.5  # m: go round the ball this far when it is in the way of lining up
 # The funnel (TeamConfig.dribble_funnel): lining a dribble up without stopping.
 FUNNEL_CONE = math.radians(35.0)  # rad off the line behind the ball (seen from it): round it first
@@ -62,11 +65,16 @@ class Body:
     "sprint" set, not "go_to_target" (None: never; `skills.navigate.sprints`);
     walk_sets: the walk sets (default: the type's shipped ones); kick_params: keyframe kick
     parameter files loaded after the shipped ones; dribble_set: the walk set a dribble walks
-    through the ball with; funnel: line a dribble up with `_funnel`, not `_line_up`."""
+    through the ball with; funnel: line a dribble up with `_funnel`, not `_line_up`;
+    dribble_hold: (lead m, brake m, step gain a cycle) for a push that keeps the ball near:
+    walk toward `lead` m past the ball slowing within `brake` m of that point, with the
+    dribble set's step sizes following the request at `gain` a cycle (None: DRIBBLE_LEAD,
+    DRIBBLE_BRAKE and the set's own gain)."""
 
     def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None,
                  walk_sets: Mapping[str, WalkParams] | None = None, kick_params: Sequence[Path] = (),
-                 dribble_set: str = "go_to_target", funnel: bool = False) -> None:
+                 dribble_set: str = "go_to_target", funnel: bool = False,
+                 dribble_hold: tuple[float, float, float] | None = None) -> None:
         self.robot_type = robot_type
         self.dribble_set = dribble_set
         self.funnel = funnel
@@ -80,6 +88,12 @@ class Body:
         if dribble_set not in self.motion.walk.sets:
             sets = ", ".join(self.motion.walk.sets)
             raise ValueError(f"unknown dribble walk set {dribble_set!r}; sets are {sets}")
+        self._push = (dribble_set, DRIBBLE_LEAD, DRIBBLE_BRAKE)  # (walk set, lead m, brake m)
+        if dribble_hold is not None:
+            lead, brake, gain = dribble_hold
+            sets = self.motion.walk.sets
+            sets[HOLD_SET] = replace(sets[dribble_set], pid_step_size_x=gain, pid_step_size_y=gain)
+            self._push = (HOLD_SET, lead, brake)
         self.tilt = TiltEstimator()
         self.head = HeadController()
         self.kicking = False  # the kicker has the body
@@ -264,10 +278,11 @@ class Body:
         facing = abs(wrap(math.atan2(u[1], u[0]) - float(world.pose[2])))
         if (along < -0.05 and abs(across) < DRIBBLE_LANE and facing < DRIBBLE_FACING
                 and float(np.hypot(*(me - ball))) < DRIBBLE_REACH):
-            aim = ball + 0.8 * u - 0.5 * across * np.array([-u[1], u[0]])
+            set_name, lead, brake = self._push
+            aim = ball + lead * u - 0.5 * across * np.array([-u[1], u[0]])
             # through the ball, never sprinting: sprinting through it fell 4 times in 10 tries
             return self._walk_to(percept, world, float(aim[0]), float(aim[1]), None,
-                                 self.dribble_set, sprint=False)
+                                 set_name, sprint=False, brake=brake)
         if self.funnel:
             return self._funnel(percept, world, req.target)
         return self._line_up(percept, world, req.target, DRIBBLE_BEHIND)

@@ -45,6 +45,11 @@ class TeamConfig:
     # full games against villa's +4.63 +- 0.20 (2.0 outs a game against 5.5; Welch p 0.04) and
     # was even with villa, +0.00 +- 0.06 over 40 (benchmarks/results/finish-vs-*/).
     dribble_finish: bool = True
+    # Push a dribble gently so that the ball stays near: (lead m, brake m, step gain a cycle),
+    # walking toward `lead` m past the ball, slowing within `brake` m of that point, the walk's
+    # step sizes following at `gain` a cycle (agent.body.Body's dribble_hold). None: 0.8 m past
+    # the ball, braking within 0.5 m, the dribble set's own gain.
+    dribble_hold: tuple[float, float, float] | None = None
     dribble_near: float = 2.0  # m: dribble (not kick) when an opponent is this close to the ball (D.2.1)
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
@@ -101,6 +106,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # Walks through the ball with a position-to-dribble set learned for a dribble that keeps
     # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).
     "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",)),
+    # Pushes a dribble on gently: toward 0.2 m past the ball (not 0.8), slowing within 0.6 m,
+    # the step sizes following at 0.1 a cycle (issue 47: a dribble that keeps the ball near).
+    "Hold": TeamConfig(dribble_hold=(0.2, 0.6, 0.1)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),
