@@ -9,12 +9,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from agent.body import HOLD_SET
 from agent.player import Player
 from agent.posture import PostureAgent
 from agent.requests import Dribble, Kick, WalkTo
 from agent.teamconfig import TeamConfig, variant
 from models.rules import PlayMode
 from models.scene import Lineup
+from optimization.dribble_walk import HOLD, dribble_run
 from optimization.trials import first_touch, place_player
 from server.match import Match
 
@@ -105,3 +107,24 @@ def test_the_funnel_rounds_a_ball_without_stopping(robot_type):
     sooner = base.touch is None or funnel.touch < base.touch - 2.0
     assert funnel.touch is not None and sooner, (base, funnel)
     assert funnel.progress > 0.3
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_a_held_dribble_keeps_the_ball_near(seed):
+    """Pushed on gently (villa:Hold), type 4's dribble takes the ball 5 m along its line
+    without it ever rolling more than 1 m from the torso; villa's full-speed push sends the
+    same ball (seeds 0 and 3) more than 1.4 m ahead."""
+    base = dribble_run(4, np.random.default_rng(seed), seed, distance=5.0, limit=30.0, config=TeamConfig())
+    held = dribble_run(4, np.random.default_rng(seed), seed, distance=5.0, limit=30.0, config=variant("Hold"))
+    assert base.falls == held.falls == 0
+    assert base.done is not None and held.done is not None
+    assert base.gap > 1.4 and held.gap <= HOLD, (base, held)
+
+
+def test_a_held_dribble_pushes_with_the_dribble_set_at_its_own_gain():
+    body = Player("L", 2, 1, config=variant("Hold")).body
+    sets = body.motion.walk.sets
+    assert sets[HOLD_SET].pid_step_size_x == sets[HOLD_SET].pid_step_size_y == 0.1
+    assert replace(sets[HOLD_SET], pid_step_size_x=0.0, pid_step_size_y=0.0) == replace(
+        sets["go_to_target"], pid_step_size_x=0.0, pid_step_size_y=0.0)
+    assert HOLD_SET not in Player("L", 2, 1).body.motion.walk.sets
