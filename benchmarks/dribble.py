@@ -32,6 +32,14 @@ villa:NoFunnel -> villa): done 39 -> 40 of 40, median speed 0.28-0.37 -> 0.30-0.
 gap 1.8-2.3 -> 1.5-2.1 m, off line 0.5-1.7 -> 0.6-1.5 m, falls 0 -> 3 (types 2 and 3);
 still 0 held.
 
+villa -> villa:Hold (the push walks toward 0.2 m past the ball instead of 0.8, slowing within
+0.6 m, its step sizes following at 0.1 a cycle instead of 0.03; December 7, 2026, 10 tries a
+type, seed 0), types 0-4: median gap 1.76, 2.15, 2.03, 1.61, 2.46 -> 1.20, 1.27, 2.09, 1.42,
+1.08 m; median speed 0.289, 0.349, 0.313, 0.301, 0.341 -> 0.315, 0.327, 0.306, 0.277, 0.299
+m/s; held 1 -> 2 of 50 (none at 0.35 m/s); falls 3 -> 2. A gentler push (0.2 m past, braking
+within 0.8 m; 8 tries a type) held the ball in 16 of 40 tries (types 1, 3 and 4: 7, 4 and 5)
+but dribbled at a median 0.19-0.29 m/s: at today's walk speed the goal's two halves pull apart.
+
 `--variant NAME` dribbles with a villa variant's body (`villa:Sprint`: the sprint
 set toward a target within 15 deg, through the ball too).
 
