@@ -92,7 +92,8 @@ VARIANTS: dict[str, TeamConfig] = {
     "NoFunnel": TeamConfig(dribble_funnel=False),  # ... and then until December 6
     "KickOnly": TeamConfig(kicks=True, dribble=False),
     # In play: a shot when one is open, else dribble. Against villa -0.10 +- 0.22 over 40 full
-    # games (benchmarks/results/shotsonly-vs-villa/).
+    # games (benchmarks/results/shotsonly-vs-villa/); against the finishing villa -0.08 +- 0.07,
+    # territory -1.6 +- 0.5 m (shotsonly-vs-villa-dec7/).
     "ShotsOnly": TeamConfig(kicks=True, passes=False),
     "WideBox": TeamConfig(kick_box=1.5),  # kicks start from a stance box 1.5x as wide: fewer aligns
     # The sprint set toward targets within 15 deg; not type 2, whose sprint sets fall on the
