@@ -91,6 +91,9 @@ class Body:
         self._push = (dribble_set, DRIBBLE_LEAD, DRIBBLE_BRAKE)  # (walk set, lead m, brake m)
         if dribble_hold is not None:
             lead, brake, gain = dribble_hold
+            if brake <= 0.0 or not 0.0 < gain <= 1.0:
+                raise ValueError(f"dribble_hold {dribble_hold}: the brake must be > 0 m "
+                                 "and the gain in (0, 1]")
             sets = self.motion.walk.sets
             sets[HOLD_SET] = replace(sets[dribble_set], pid_step_size_x=gain, pid_step_size_y=gain)
             self._push = (HOLD_SET, lead, brake)

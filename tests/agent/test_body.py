@@ -128,3 +128,5 @@ def test_a_held_dribble_pushes_with_the_dribble_set_at_its_own_gain():
     assert replace(sets[HOLD_SET], pid_step_size_x=0.0, pid_step_size_y=0.0) == replace(
         sets["go_to_target"], pid_step_size_x=0.0, pid_step_size_y=0.0)
     assert HOLD_SET not in Player("L", 2, 1).body.motion.walk.sets
+    with pytest.raises(ValueError, match=r"dribble_hold \(0.2, 0.0, 0.1\): the brake must be > 0"):
+        Player("L", 2, 1, config=TeamConfig(dribble_hold=(0.2, 0.0, 0.1)))
