@@ -109,6 +109,8 @@ VARIANTS: dict[str, TeamConfig] = {
     "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",)),
     # Pushes a dribble on gently: toward 0.2 m past the ball (not 0.8), slowing within 0.6 m,
     # the step sizes following at 0.1 a cycle (issue 47: a dribble that keeps the ball near).
+    # The ball stays nearer (benchmarks.dribble) but -0.08 +- 0.06 over 40 full games against
+    # villa (2:5; territory +0.3 +- 0.5 m; benchmarks/results/hold-vs-villa/).
     "Hold": TeamConfig(dribble_hold=(0.2, 0.6, 0.1)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
