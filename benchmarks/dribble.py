@@ -39,6 +39,7 @@ type, seed 0), types 0-4: median gap 1.76, 2.15, 2.03, 1.61, 2.46 -> 1.20, 1.27,
 m/s; held 1 -> 2 of 50 (none at 0.35 m/s); falls 3 -> 2. A gentler push (0.2 m past, braking
 within 0.8 m; 8 tries a type) held the ball in 16 of 40 tries (types 1, 3 and 4: 7, 4 and 5)
 but dribbled at a median 0.19-0.29 m/s: at today's walk speed the goal's two halves pull apart.
+In games villa:Hold tied villa, -0.08 +- 0.06 over 40 (benchmarks/results/hold-vs-villa/).
 
 `--variant NAME` dribbles with a villa variant's body (`villa:Sprint`: the sprint
 set toward a target within 15 deg, through the ball too).
