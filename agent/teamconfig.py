@@ -112,6 +112,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # The ball stays nearer (benchmarks.dribble) but -0.08 +- 0.06 over 40 full games against
     # villa (2:5; territory +0.3 +- 0.5 m; benchmarks/results/hold-vs-villa/).
     "Hold": TeamConfig(dribble_hold=(0.2, 0.6, 0.1)),
+    # FastWalk's go-to-target sets (types 0 and 1) with a gentler push still (braking within
+    # 0.8 m): the first dribble to keep the ball within 1 m at 0.35 m/s over 10 m (benchmarks.dribble).
+    "FastHold": TeamConfig(walk_files=("walk_fast_type{type}.txt",),
+                           kick_files=("kick_fast_type{type}.params",), dribble_hold=(0.2, 0.8, 0.1)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),
