@@ -102,6 +102,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # Go-to-target sets learned with the stand free on the course, zigzag and turns
     # (issue 47; skills/data/walk_fast_type*.txt), for the types that have one, and the
     # keyframe kicks' settings for that stand (kick_fast_type*.params).
+    # Against today's villa +0.25 +- 0.08 over 40 full games (10:0), territory +3.9 +- 0.5 m,
+    # falls 33.6 against 27.0 a game (benchmarks/results/fastwalk-vs-villa-dec7/).
     "FastWalk": TeamConfig(walk_files=("walk_fast_type{type}.txt",),
                            kick_files=("kick_fast_type{type}.params",)),
     # Walks through the ball with a position-to-dribble set learned for a dribble that keeps
