@@ -7,7 +7,7 @@ turns them off one at a time). Distances in m, times in s.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 
 @dataclass(frozen=True)
@@ -68,6 +68,10 @@ class TeamConfig:
 
 VILLA = TeamConfig()
 
+# The go-to-target sets learned with the stand free and type 0's kicks for that stand
+# (villa:FastWalk, and the base of villa:FastHold).
+_FAST_WALK = TeamConfig(walk_files=("walk_fast_type{type}.txt",), kick_files=("kick_fast_type{type}.params",))
+
 # "Positioning to Win" section 6's variants of the base team (Table 2), and a few more.
 # Names are matched case-insensitively (`variant`); the team spec is `villa:NAME`.
 VARIANTS: dict[str, TeamConfig] = {
@@ -104,8 +108,7 @@ VARIANTS: dict[str, TeamConfig] = {
     # keyframe kicks' settings for that stand (kick_fast_type*.params).
     # Against today's villa +0.25 +- 0.08 over 40 full games (10:0), territory +3.9 +- 0.5 m,
     # falls 33.6 against 27.0 a game (benchmarks/results/fastwalk-vs-villa-dec7/).
-    "FastWalk": TeamConfig(walk_files=("walk_fast_type{type}.txt",),
-                           kick_files=("kick_fast_type{type}.params",)),
+    "FastWalk": _FAST_WALK,
     # Walks through the ball with a position-to-dribble set learned for a dribble that keeps
     # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).
     "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",)),
@@ -116,8 +119,7 @@ VARIANTS: dict[str, TeamConfig] = {
     "Hold": TeamConfig(dribble_hold=(0.2, 0.6, 0.1)),
     # FastWalk's go-to-target sets (types 0 and 1) with a gentler push still (braking within
     # 0.8 m): the first dribble to keep the ball within 1 m at 0.35 m/s over 10 m (benchmarks.dribble).
-    "FastHold": TeamConfig(walk_files=("walk_fast_type{type}.txt",),
-                           kick_files=("kick_fast_type{type}.params",), dribble_hold=(0.2, 0.8, 0.1)),
+    "FastHold": replace(_FAST_WALK, dribble_hold=(0.2, 0.8, 0.1)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),
