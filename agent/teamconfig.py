@@ -7,7 +7,12 @@ turns them off one at a time). Distances in m, times in s.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
+
+# The go-to-target sets learned with the stand free (issue 47; skills/data/walk_fast_type*.txt,
+# types 0 and 1 so far) and the keyframe kicks' settings for that stand (kick_fast_type*.params).
+FAST_WALK_FILES = ("walk_fast_type{type}.txt",)
+FAST_KICK_FILES = ("kick_fast_type{type}.params",)
 
 
 @dataclass(frozen=True)
@@ -62,15 +67,20 @@ class TeamConfig:
     sprint_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # ... for these robot types
     # Walk parameter files loaded after a type's shipped ones, "{type}" standing for the robot
     # type (files in skills/data or paths; a type without its file keeps the shipped walk).
-    walk_files: tuple[str, ...] = ()
-    kick_files: tuple[str, ...] = ()  # likewise, keyframe kick parameter files
+    # The fast sets: villa:FastWalk beat villa without them (villa:SlowWalk) by +0.25 +- 0.08
+    # goals over 40 full games, territory +3.9 +- 0.5 m (benchmarks/results/fastwalk-vs-villa-dec7/).
+    walk_files: tuple[str, ...] = FAST_WALK_FILES
+    kick_files: tuple[str, ...] = FAST_KICK_FILES  # likewise, keyframe kick parameter files
 
 
 VILLA = TeamConfig()
 
-# The go-to-target sets learned with the stand free and type 0's kicks for that stand
-# (villa:FastWalk, and the base of villa:FastHold).
-_FAST_WALK = TeamConfig(walk_files=("walk_fast_type{type}.txt",), kick_files=("kick_fast_type{type}.params",))
+
+def _shipped_walk(*walk_files: str) -> TeamConfig:
+    """The team on the shipped walk sets and kicks with `walk_files` after them: the walk
+    variants measured before the fast sets shipped."""
+    return TeamConfig(walk_files=walk_files, kick_files=())
+
 
 # "Positioning to Win" section 6's variants of the base team (Table 2), and a few more.
 # Names are matched case-insensitively (`variant`); the team spec is `villa:NAME`.
@@ -103,23 +113,23 @@ VARIANTS: dict[str, TeamConfig] = {
     # The sprint set toward targets within 15 deg; not type 2, whose sprint sets fall on the
     # sprint course (changing back to go-to-target): 12 of 16 runs with the shipped one.
     "Sprint": TeamConfig(sprint_within=15.0, sprint_types=(0, 1, 3, 4)),
-    # Go-to-target sets learned with the stand free on the course, zigzag and turns
-    # (issue 47; skills/data/walk_fast_type*.txt), for the types that have one, and the
-    # keyframe kicks' settings for that stand (kick_fast_type*.params).
-    # Against today's villa +0.25 +- 0.08 over 40 full games (10:0), territory +3.9 +- 0.5 m,
-    # falls 33.6 against 27.0 a game (benchmarks/results/fastwalk-vs-villa-dec7/).
-    "FastWalk": _FAST_WALK,
+    # The go-to-target sets learned with the stand free (FAST_WALK_FILES): villa since December
+    # 7, 2026. Against the team before (SlowWalk) +0.25 +- 0.08 over 40 full games (10:0),
+    # territory +3.9 +- 0.5 m, falls 33.6 against 27.0 a game (benchmarks/results/fastwalk-vs-villa-dec7/).
+    "FastWalk": TeamConfig(),
+    "SlowWalk": _shipped_walk(),  # every type on its shipped walk sets and kicks: villa until then
     # Walks through the ball with a position-to-dribble set learned for a dribble that keeps
     # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).
-    "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",)),
+    "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",),
+                              kick_files=()),
     # Pushes a dribble on gently: toward 0.2 m past the ball (not 0.8), slowing within 0.6 m,
     # the step sizes following at 0.1 a cycle (issue 47: a dribble that keeps the ball near).
-    # The ball stays nearer (benchmarks.dribble) but -0.08 +- 0.06 over 40 full games against
-    # villa (2:5; territory +0.3 +- 0.5 m; benchmarks/results/hold-vs-villa/).
+    # On the shipped walk the ball stayed nearer (benchmarks.dribble) but -0.08 +- 0.06 over 40
+    # full games against that villa (2:5; territory +0.3 +- 0.5 m; benchmarks/results/hold-vs-villa/).
     "Hold": TeamConfig(dribble_hold=(0.2, 0.6, 0.1)),
-    # FastWalk's go-to-target sets (types 0 and 1) with a gentler push still (braking within
-    # 0.8 m): the first dribble to keep the ball within 1 m at 0.35 m/s over 10 m (benchmarks.dribble).
-    "FastHold": replace(_FAST_WALK, dribble_hold=(0.2, 0.8, 0.1)),
+    # The fast sets with a gentler push still (braking within 0.8 m): the first dribble to keep
+    # the ball within 1 m at 0.35 m/s over 10 m (type 0, 3 of 10 tries; benchmarks.dribble).
+    "FastHold": TeamConfig(dribble_hold=(0.2, 0.8, 0.1)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),
@@ -132,34 +142,36 @@ VARIANTS: dict[str, TeamConfig] = {
     # Lines a dribble up without stopping: round the ball walking forward, then into its line
     # facing along it (issue 47: a quicker first touch; benchmarks.firsttouch): villa itself.
     "Funnel": TeamConfig(dribble_funnel=True),
+    # The walk experiments below were measured on the shipped walk sets (before the fast sets
+    # shipped) and stay on them (_shipped_walk).
     # The go-to-target walk's step size following the request with gain 0.06 a cycle, every
     # type (issue 47: a walk from the stand at speed in a third of a second; walk_quick.txt).
     # It won duels (+0.64 +- 0.13 m a pair) but not games: +0.03 +- 0.07 over 40 full games
     # against villa (benchmarks/results/quickstart-vs-villa/).
-    "QuickStart": TeamConfig(walk_files=("walk_quick.txt",)),
+    "QuickStart": _shipped_walk("walk_quick.txt"),
     # Balance steps in every walk set (skills/data/walk_balance.txt): fewer falls where robots
     # meet (benchmarks.bump) and in 4 vs 4 games (+0.12 +- 0.05 goals), but -0.07 +- 0.10 over
     # 40 full games against villa (benchmarks/results/balance-vs-villa/).
-    "Balance": TeamConfig(walk_files=("walk_balance.txt",)),
+    "Balance": _shipped_walk("walk_balance.txt"),
     # Softer joints while walking (joint_kp 11 1/s, skills/data/walk_soft.txt): fewer falls
     # when robots walk into each other (benchmarks.bump), a tenth slower forward; but more
     # falls in games and -0.21 +- 0.10 over 24 against villa (benchmarks/results/soft-vs-villa/).
-    "Soft": TeamConfig(walk_files=("walk_soft.txt",)),
+    "Soft": _shipped_walk("walk_soft.txt"),
     # The swing foot lifted 30 mm instead of 40 (skills/data/walk_lowstep.txt): fewer falls
     # when robots walk into each other (benchmarks.bump) and in games (19.9 against 22.8 a
     # game), but +0.03 +- 0.05 over 80 against villa (benchmarks/results/lowstep-vs-villa/).
-    "LowStep": TeamConfig(walk_files=("walk_lowstep.txt",)),
+    "LowStep": _shipped_walk("walk_lowstep.txt"),
     # LowStep's 30 mm step with longer backward and side steps (skills/data/walk_agile*.txt):
     # backward 1.09-1.63x and sideways 1.00-1.33x as fast (issue 47), but +0.08 +- 0.05 over
     # 80 against villa (benchmarks/results/agile-vs-villa/).
-    "Agile": TeamConfig(walk_files=("walk_lowstep.txt", "walk_agile.txt", "walk_agile_type{type}.txt")),
+    "Agile": _shipped_walk("walk_lowstep.txt", "walk_agile.txt", "walk_agile_type{type}.txt"),
     # A backward step swung after fraction_still, as villa had it until December 6, 2026
     # (skills/data/walk_latebackward.txt): backward 0.11-0.14 m/s instead of 0.23-0.28.
-    "LateBackward": TeamConfig(walk_files=("walk_latebackward.txt",)),
+    "LateBackward": _shipped_walk("walk_latebackward.txt"),
     # The swing foot lifted 15 mm in place, 40 at a full step (skills/data/walk_slowlift.txt):
     # a slow walk that goes where it is asked, not backward (issue 47); -0.10 +- 0.07 over 40
     # against villa (benchmarks/results/slowlift-vs-villa/).
-    "SlowLift": TeamConfig(walk_files=("walk_slowlift.txt",)),
+    "SlowLift": _shipped_walk("walk_slowlift.txt"),
     # The dribble straight at the goal, lined up with the funnel (villa without its cone): with
     # the early backward swing, going round the ball is as quick as the cone (tests/agent/test_body.py).
     # -0.04 +- 0.14 over 26 against villa, territory -1.48 +- 0.59 m (benchmarks/results/straight-vs-villa/).
@@ -212,4 +224,5 @@ def variant(name: str) -> TeamConfig:
     return VARIANTS[variant_name(name)]
 
 
-__all__ = ["PAPER_TABLE2", "VARIANTS", "VILLA", "TeamConfig", "UnknownVariant", "variant", "variant_name"]
+__all__ = ["FAST_KICK_FILES", "FAST_WALK_FILES", "PAPER_TABLE2", "VARIANTS", "VILLA", "TeamConfig",
+           "UnknownVariant", "variant", "variant_name"]

@@ -98,15 +98,19 @@ def test_a_dribble_cone_touches_a_ball_beside_the_player_sooner():
 def test_the_funnel_rounds_a_ball_without_stopping(robot_type):
     """From 1.5 m in front of the ball (between it and the goal), villa:NoFunnel lines the
     dribble up at a spot behind the ball and steps sideways into it as the cone's line moves;
-    villa walks round and into the line, and touches the ball at least 2 s sooner, pushing it
-    on toward the opponents' goal, without falling."""
-    ahead = dict(seed=0, ball=(1.0, -0.5), bearing=0.3, distance=1.5)
-    base = first_touch(robot_type, variant("NoFunnel"), **ahead)
-    funnel = first_touch(robot_type, TeamConfig(), **ahead)
-    assert funnel.falls == 0
-    sooner = base.touch is None or funnel.touch < base.touch - 2.0
-    assert funnel.touch is not None and sooner, (base, funnel)
-    assert funnel.progress > 0.3
+    villa walks round and into the line, and over seeds 0-3 touches the ball at least 2 s
+    sooner in 3 of 4 (and at the median), pushing it on toward the opponents' goal, without
+    falling."""
+    seeds = range(4)
+    base = [first_touch(robot_type, variant("NoFunnel"), seed=s, ball=(1.0, -0.5), bearing=0.3,
+                        distance=1.5) for s in seeds]
+    funnel = [first_touch(robot_type, TeamConfig(), seed=s, ball=(1.0, -0.5), bearing=0.3,
+                          distance=1.5) for s in seeds]
+    assert sum(f.falls for f in funnel) == 0, funnel
+    assert all(f.touch is not None for f in funnel), funnel
+    sooner = [b.touch is None or f.touch < b.touch - 2.0 for b, f in zip(base, funnel)]
+    assert sum(sooner) >= 3, (base, funnel)
+    assert np.median([f.progress for f in funnel]) > 0.0, funnel
 
 
 @pytest.mark.parametrize("seed", [0, 3])

@@ -169,7 +169,7 @@ def test_walk_files_load_after_the_shipped_walk_for_the_types_that_have_one(tmp_
 
     (tmp_path / "fast_type1.txt").write_text("max_step_size_x\t71.5\nsprint_walk_height\t190\n")
     config = TeamConfig(walk_files=(str(tmp_path / "fast_type{type}.txt"),))
-    shipped = Player("L", 2, 1).body.motion.walk.sets
+    shipped = Player("L", 2, 1, config=TeamConfig(walk_files=())).body.motion.walk.sets
     sets = Player("L", 2, 1, config=config).body.motion.walk.sets
     assert sets["go_to_target"].max_step_size_x == pytest.approx(0.0715)  # mm in the file
     assert sets["sprint"].walk_height == pytest.approx(0.190)
@@ -177,7 +177,7 @@ def test_walk_files_load_after_the_shipped_walk_for_the_types_that_have_one(tmp_
     assert shipped["go_to_target"].max_step_size_x != pytest.approx(0.0715)
     # type 2 has no such file: the shipped walk
     other = Player("L", 3, 2, config=config).body.motion.walk.sets
-    assert other == Player("L", 3, 2).body.motion.walk.sets
+    assert other == Player("L", 3, 2, config=TeamConfig(walk_files=())).body.motion.walk.sets
     with pytest.raises(FileNotFoundError, match="nowhere.txt"):
         Player("L", 2, 1, config=TeamConfig(walk_files=("nowhere.txt",)))
     (tmp_path / "slew_type1.params").write_text("kick_base_slew\t90\n")
@@ -185,3 +185,22 @@ def test_walk_files_load_after_the_shipped_walk_for_the_types_that_have_one(tmp_
     kicks = Player("L", 2, 1, config=slewing).body.kicks
     assert kicks["kick_left"].base_slew == pytest.approx(math.radians(90.0))
     assert Player("L", 2, 1).body.kicks["kick_left"].base_slew != pytest.approx(math.radians(90.0))
+
+
+def test_villa_walks_on_the_fast_sets_and_slowwalk_on_the_shipped_ones():
+    from agent.player import Player
+    from agent.teamconfig import variant
+
+    for robot_type, height in [(0, 0.175454), (1, None)]:
+        fast = Player("L", 2, robot_type).body.motion.walk.sets["go_to_target"]
+        slow = Player("L", 2, robot_type, config=variant("SlowWalk")).body.motion.walk.sets["go_to_target"]
+        assert fast.max_step_size_x > slow.max_step_size_x  # the learned sets step farther
+        if height is not None:  # walk_fast_type0.txt lowers the stand 10 mm
+            assert fast.walk_height == pytest.approx(height)
+            assert slow.walk_height == pytest.approx(height + 0.010, abs=1e-4)
+    kicks = Player("L", 2, 0).body.kicks["kick_left"]
+    assert kicks.base_slew == pytest.approx(math.radians(125.4))  # kick_fast_type0.params
+    assert Player("L", 2, 0, config=variant("SlowWalk")).body.kicks["kick_left"].base_slew != kicks.base_slew
+    # types 2-4 have no fast set yet: the same walk either way
+    assert (Player("L", 3, 3).body.motion.walk.sets
+            == Player("L", 3, 3, config=variant("SlowWalk")).body.motion.walk.sets)

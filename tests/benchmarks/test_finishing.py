@@ -9,10 +9,10 @@ from benchmarks import finishing
 
 
 def test_a_ball_beside_the_goal_is_centered_and_scored_where_a_straight_push_puts_it_out():
-    # seed 5: the ball 0.6 m from the end line, 1.9 m off the long axis; the player 2.4 m back
-    straight = finishing.finish_stats("beside", variant("NoFinish"), tries=1, types=[0], seed=5)
+    # seed 9 (type 0 on the fast walk; on the shipped walk seed 5 showed the same)
+    straight = finishing.finish_stats("beside", variant("NoFinish"), tries=1, types=[0], seed=9)
     assert straight["outs"] == 1 and straight["goals"] == 0
-    centered = finishing.finish_stats("beside", variant("Finish"), tries=1, types=[0], seed=5)
+    centered = finishing.finish_stats("beside", variant("Finish"), tries=1, types=[0], seed=9)
     assert centered["goals"] == 1 and centered["outs"] == 0 and centered["falls"] == 0
     assert centered["goal_median_s"] > 10.0  # centering takes a while
 
