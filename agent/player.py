@@ -90,10 +90,11 @@ class Player:
         self.robot_type = robot_type
         self.config = config
         self.world = WorldModel(side, unum, seed=seed)
+        files = robot_type in config.file_types
         self.body = Body(robot_type, config.kick_box,
                          config.sprint_within if robot_type in config.sprint_types else None,
-                         _walk_sets(config.walk_files, robot_type),
-                         _type_files(config.kick_files, robot_type), config.dribble_set,
+                         _walk_sets(config.walk_files if files else (), robot_type),
+                         _type_files(config.kick_files if files else (), robot_type), config.dribble_set,
                          config.dribble_funnel, config.dribble_hold)
         self.formation = _formation(config.formation)
         self.votes = VoteWindow(TEAM_SIZE)

@@ -71,6 +71,7 @@ class TeamConfig:
     # goals over 40 full games, territory +3.9 +- 0.5 m (benchmarks/results/fastwalk-vs-villa-dec7/).
     walk_files: tuple[str, ...] = FAST_WALK_FILES
     kick_files: tuple[str, ...] = FAST_KICK_FILES  # likewise, keyframe kick parameter files
+    file_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # the robot types that load walk_files and kick_files
 
 
 VILLA = TeamConfig()

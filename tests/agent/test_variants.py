@@ -204,3 +204,15 @@ def test_villa_walks_on_the_fast_sets_and_slowwalk_on_the_shipped_ones():
     # types 2-4 have no fast set yet: the same walk either way
     assert (Player("L", 3, 3).body.motion.walk.sets
             == Player("L", 3, 3, config=variant("SlowWalk")).body.motion.walk.sets)
+
+
+def test_file_types_limit_the_walk_and_kick_files_to_those_types():
+    from agent.player import Player
+    from agent.teamconfig import TeamConfig, variant
+
+    only0 = TeamConfig(file_types=(0,))
+    slow = variant("SlowWalk")
+    assert Player("L", 2, 0, config=only0).body.motion.walk.sets == Player("L", 2, 0).body.motion.walk.sets
+    assert (Player("L", 2, 1, config=only0).body.motion.walk.sets
+            == Player("L", 2, 1, config=slow).body.motion.walk.sets
+            != Player("L", 2, 1).body.motion.walk.sets)
