@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 
 # The go-to-target sets learned with the stand free (issue 47; skills/data/walk_fast_type*.txt,
-# types 0 and 1 so far) and the keyframe kicks' settings for that stand (kick_fast_type*.params).
+# every type) and the keyframe kicks' settings for that stand (kick_fast_type*.params, type 0).
 FAST_WALK_FILES = ("walk_fast_type{type}.txt",)
 FAST_KICK_FILES = ("kick_fast_type{type}.params",)
 
@@ -67,8 +67,10 @@ class TeamConfig:
     sprint_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # ... for these robot types
     # Walk parameter files loaded after a type's shipped ones, "{type}" standing for the robot
     # type (files in skills/data or paths; a type without its file keeps the shipped walk).
-    # The fast sets: villa:FastWalk beat villa without them (villa:SlowWalk) by +0.25 +- 0.08
-    # goals over 40 full games, territory +3.9 +- 0.5 m (benchmarks/results/fastwalk-vs-villa-dec7/).
+    # The fast sets: those of types 0 and 1 beat villa without them (villa:SlowWalk) by +0.25 +-
+    # 0.08 goals over 40 full games, territory +3.9 +- 0.5 m (benchmarks/results/fastwalk-vs-villa-dec7/);
+    # types 2-4's then beat that team (villa:FastWalk01) by +0.28 +- 0.09, territory +2.1 +- 0.5 m
+    # (benchmarks/results/fastwalk234-vs-villa/).
     walk_files: tuple[str, ...] = FAST_WALK_FILES
     kick_files: tuple[str, ...] = FAST_KICK_FILES  # likewise, keyframe kick parameter files
     file_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # the robot types that load walk_files and kick_files
@@ -115,9 +117,12 @@ VARIANTS: dict[str, TeamConfig] = {
     # sprint course (changing back to go-to-target): 12 of 16 runs with the shipped one.
     "Sprint": TeamConfig(sprint_within=15.0, sprint_types=(0, 1, 3, 4)),
     # The go-to-target sets learned with the stand free (FAST_WALK_FILES): villa since December
-    # 7, 2026. Against the team before (SlowWalk) +0.25 +- 0.08 over 40 full games (10:0),
-    # territory +3.9 +- 0.5 m, falls 33.6 against 27.0 a game (benchmarks/results/fastwalk-vs-villa-dec7/).
+    # 7, 2026. Types 0 and 1's against the team before (SlowWalk) +0.25 +- 0.08 over 40 full
+    # games (10:0), territory +3.9 +- 0.5 m, falls 33.6 against 27.0 a game
+    # (benchmarks/results/fastwalk-vs-villa-dec7/); types 2-4's against FastWalk01 +0.28 +- 0.09
+    # (12:1), territory +2.1 +- 0.5 m, falls 38.0 against 34.2 (fastwalk234-vs-villa/).
     "FastWalk": TeamConfig(),
+    "FastWalk01": TeamConfig(file_types=(0, 1)),  # only types 0 and 1 on the fast sets: villa that morning
     "SlowWalk": _shipped_walk(),  # every type on its shipped walk sets and kicks: villa until then
     # Walks through the ball with a position-to-dribble set learned for a dribble that keeps
     # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).

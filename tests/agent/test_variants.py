@@ -190,20 +190,19 @@ def test_walk_files_load_after_the_shipped_walk_for_the_types_that_have_one(tmp_
 def test_villa_walks_on_the_fast_sets_and_slowwalk_on_the_shipped_ones():
     from agent.player import Player
     from agent.teamconfig import variant
+    from skills.params import read_entries
+    from skills.walk import DATA as SKILL_DATA
 
-    for robot_type, height in [(0, 0.175454), (1, None)]:
+    for robot_type in range(5):
         fast = Player("L", 2, robot_type).body.motion.walk.sets["go_to_target"]
         slow = Player("L", 2, robot_type, config=variant("SlowWalk")).body.motion.walk.sets["go_to_target"]
-        assert fast.max_step_size_x > slow.max_step_size_x  # the learned sets step farther
-        if height is not None:  # walk_fast_type0.txt lowers the stand 10 mm
-            assert fast.walk_height == pytest.approx(height)
-            assert slow.walk_height == pytest.approx(height + 0.010, abs=1e-4)
+        learned = read_entries(SKILL_DATA / f"walk_fast_type{robot_type}.txt")
+        assert fast.walk_height == pytest.approx(learned["walk_height"].value / 1000.0)  # mm in the file
+        assert fast.phase_length == pytest.approx(learned["phase_length"].value)
+        assert slow.phase_length != pytest.approx(learned["phase_length"].value)
     kicks = Player("L", 2, 0).body.kicks["kick_left"]
     assert kicks.base_slew == pytest.approx(math.radians(125.4))  # kick_fast_type0.params
     assert Player("L", 2, 0, config=variant("SlowWalk")).body.kicks["kick_left"].base_slew != kicks.base_slew
-    # types 2-4 have no fast set yet: the same walk either way
-    assert (Player("L", 3, 3).body.motion.walk.sets
-            == Player("L", 3, 3, config=variant("SlowWalk")).body.motion.walk.sets)
 
 
 def test_file_types_limit_the_walk_and_kick_files_to_those_types():
