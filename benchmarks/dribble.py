@@ -47,6 +47,12 @@ m/s; 95% interval 11-60%), median speed 0.328 m/s, 2 falls; type 1 (0.407 m/s) h
 met it in none, 1 fall. FastWalk without the hold (8 tries): type 0 held it once, met it in
 none.
 
+villa with the fast sets for every type (villa since December 7, 2026; 10 tries a type, seed
+0), types 0-4: median speed 0.353, 0.358, 0.315, 0.405, 0.318 m/s; median gap 1.54, 1.65,
+1.48, 2.62, 2.03 m; held 2 of 50, the goal met in none; falls 4, 2, 0, 0, 7. Type 4's fast
+set trips over the ball: 7 of 10 tries fell (3 of 10 with seed 1), none of 10 on its shipped
+set (villa:SlowWalk).
+
 `--variant NAME` dribbles with a villa variant's body (`villa:Sprint`: the sprint
 set toward a target within 15 deg, through the ball too).
 

@@ -35,6 +35,11 @@ villa:NoFunnel -> villa:Funnel, villa since (the dribble lined up without stoppi
 5.92, 5.50, 5.86 s; 90th percentile 11.8, 9.7, 10.9, 10.6, 10.3 -> 6.9, 7.0, 7.1, 6.6,
 7.4 s; tries without a touch 8 -> 0 of 160; falls 0 -> 0; progress 1.66 -> 1.65 m.
 
+villa:SlowWalk -> villa (the go-to-target sets learned with the stand free, every type; villa
+since December 7, 2026), 32 tries a type, seed 0: median first touch 5.62, 5.31, 5.93, 5.56,
+5.86 -> 4.10, 4.61, 4.74, 4.73, 4.65 s; tries without a touch 0 -> 1 of 160; falls 1 -> 9;
+progress 1.64 -> 1.98 m a try on average.
+
 `--roll M/S` rolls the ball off at that speed in a random direction as play starts; the
 touch is then the referee's (the player touched the ball), not 5 cm of movement. villa,
 `--roll 1 --near 1.5 --far 3`, 16 tries (December 6, 2026): types 0 and 2 median 11.4 and
