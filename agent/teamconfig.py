@@ -128,6 +128,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).
     "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",),
                               kick_files=()),
+    # Walks through the ball with position-to-dribble sets learned from the fast sets' stands
+    # (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_fast_dribble_type*.txt).
+    "FastDribble": TeamConfig(dribble_set="position_to_dribble",
+                              walk_files=(*FAST_WALK_FILES, "walk_fast_dribble_type{type}.txt")),
     # Pushes a dribble on gently: toward 0.2 m past the ball (not 0.8), slowing within 0.6 m,
     # the step sizes following at 0.1 a cycle (issue 47: a dribble that keeps the ball near).
     # On the shipped walk the ball stayed nearer (benchmarks.dribble) but -0.08 +- 0.06 over 40

@@ -54,3 +54,18 @@ def test_the_dribble_walk_variant_dribbles_with_a_learned_set_from_the_same_stan
         assert (sets["position_to_dribble"] == sets["go_to_target"]) == (t == 3)
         for name in ("walk_height", "default_com_pos_x", "fwd_offset", "pid_tilt", "pid_roll"):
             assert getattr(sets["position_to_dribble"], name) == getattr(sets["go_to_target"], name)
+
+
+def test_the_fast_dribble_variant_dribbles_with_sets_learned_from_the_fast_stands():
+    from agent.teamconfig import VILLA, variant
+
+    for t in range(5):
+        body = Player("L", 2, t, config=variant("FastDribble")).body
+        villa = Player("L", 2, t, config=VILLA).body.motion.walk.sets
+        sets = body.motion.walk.sets
+        assert body.dribble_set == "position_to_dribble"
+        assert sets["go_to_target"] == villa["go_to_target"]  # only the dribble set is new
+        # type 3's run found nothing better than go-to-target's values, so it keeps them
+        assert (sets["position_to_dribble"] == sets["go_to_target"]) == (t == 3)
+        for name in ("walk_height", "default_com_pos_x", "fwd_offset", "pid_tilt", "pid_roll"):
+            assert getattr(sets["position_to_dribble"], name) == getattr(sets["go_to_target"], name)
