@@ -130,6 +130,9 @@ VARIANTS: dict[str, TeamConfig] = {
                               kick_files=()),
     # Walks through the ball with position-to-dribble sets learned from the fast sets' stands
     # (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_fast_dribble_type*.txt).
+    # Fewer dribble falls (benchmarks.dribble: 13 -> 1 in 40 tries, types 0, 1, 2, 4) but
+    # +0.00 +- 0.08 over 40 full games against villa (4:4; territory +0.2 +- 0.5 m, falls 39.0
+    # against 37.6 a game; benchmarks/results/fastdribble-vs-villa/).
     "FastDribble": TeamConfig(dribble_set="position_to_dribble",
                               walk_files=(*FAST_WALK_FILES, "walk_fast_dribble_type{type}.txt")),
     # Pushes a dribble on gently: toward 0.2 m past the ball (not 0.8), slowing within 0.6 m,

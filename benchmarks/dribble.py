@@ -53,6 +53,15 @@ villa with the fast sets for every type (villa since December 7, 2026; 10 tries 
 set trips over the ball: 7 of 10 tries fell (3 of 10 with seed 1), none of 10 on its shipped
 set (villa:SlowWalk).
 
+`--variant FastDribble` (position-to-dribble sets learned from the fast stands on the
+`dribble_walk` task, `skills/data/walk_fast_dribble_type*.txt`; December 7, 2026, 10 tries a
+type, seed 0), villa -> FastDribble, types 0, 1, 2, 4: median speed 0.353, 0.358, 0.315,
+0.318 -> 0.431, 0.373, 0.363, 0.406 m/s; median gap 1.54, 1.65, 1.48, 2.03 -> 1.62, 1.88,
+1.52, 2.52 m; held in 2 of 40 tries, the goal met in both (types 0 and 2; villa: 2 of 50
+over all five types, met in none); falls 4, 2, 0, 7 -> 0, 0, 0, 1. Type 3 keeps its
+go-to-target values (0.405 m/s, gap 2.62 m, no falls, as villa). In games it tied villa
+(+0.00 +- 0.08 over 40).
+
 `--variant NAME` dribbles with a villa variant's body (`villa:Sprint`: the sprint
 set toward a target within 15 deg, through the ball too).
 
