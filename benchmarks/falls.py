@@ -29,6 +29,14 @@ none (a script outside the repository, 1 s before each fall). Balance steps
 (`skills.walk`, villa:Balance) cut falls where robots walk into each other
 (`benchmarks.bump`) and in 4 vs 4 games, not measurably in full ones.
 
+Villa on the fast sets (villa against villa, `--games 1 --seconds 300`, seeds 0 and 1,
+December 7, 2026): 88 falls in 600 s of play (44 a team-half). 50 with another robot within
+0.6 m or touching it, 38 in the open (`open_walk`: no robot near or touching, not right after a
+getup). Of those 38 the walk was turning in 14, forward 13, sideways 7, in place 2, backward
+2; 26 walking to a position, 9 dribbling; by type 12, 10, 5, 4, 7 (types 0-4). A dribble's own
+trips are few: villa:FastDribble, whose dribble falls 13 -> 1 times in 40 `benchmarks.dribble`
+tries, tied villa over 40 games.
+
     python -m benchmarks.falls [--home villa] [--away villa] [--seconds 300] [--seed 0] [--games 1]
 """
 
@@ -52,6 +60,7 @@ NEAR = 0.6  # m: another robot's torso this near counts as a collision
 # What touched a player (bits): the ball, or another robot touching its legs (hips to
 # toes), its arms or its trunk (torso, neck, head).
 TOUCH = {"ball": 1, "legs": 2, "arms": 4, "trunk": 8}
+WALKS = ("forward", "backward", "sideways", "turning", "in place", "still", "")  # `walk_direction`
 _ARMS = ("shoulder", "upperarm", "elbow", "lowerarm")
 _TRUNK = ("torso", "neck", "head")
 
@@ -98,9 +107,28 @@ def activity(agent) -> str:
     return type(agent.request).__name__.lower()
 
 
+def walk_direction(agent) -> str:
+    """Where a player's walk was stepping: the largest of its step's x, y and turn as a
+    fraction of its walk set's maximum (forward, backward, sideways, turning), "in place"
+    if all are under a fifth, "still" when not walking, "" for other agents."""
+    body = getattr(agent, "body", None)
+    if body is None:
+        return ""
+    walk = body.motion.walk
+    if not walk.walking:
+        return "still"
+    p = walk.params
+    x, y, th = walk.step.tolist()
+    f = (x / p.max_step_size_x, abs(y) / p.max_step_size_y, abs(th) / p.max_step_size_angle)
+    k = int(np.argmax(np.abs(f)))
+    if abs(f[k]) < 0.2:
+        return WALKS[4]
+    return (WALKS[0] if f[0] > 0 else WALKS[1], WALKS[2], WALKS[3])[k]
+
+
 def fall_rows(m: Match, seconds: float) -> list[dict]:
     """Play `seconds` from the kickoff; one row per fall: game time (s), player index, side,
-    robot type, activity LOOKBACK s before, whether it was getting up within LOOKBACK s,
+    robot type, activity and walk direction LOOKBACK s before, whether it was getting up within LOOKBACK s,
     the nearest other robot's and the ball's ground distance (m), and what touched it
     within LOOKBACK s (`TOUCH` names; sampled once a cycle)."""
     w, ref = m.world, m.referee
@@ -114,7 +142,7 @@ def fall_rows(m: Match, seconds: float) -> list[dict]:
     for _ in range(round(seconds / CYCLE)):
         m.step()
         for r, agent in zip(recent, m.agents):
-            r.append(activity(agent))
+            r.append((activity(agent), walk_direction(agent)))
         for t, bits in zip(touched, touches(w, parts).tolist()):
             t.append(bits)
         new = np.nonzero(ref.fallen & ~prev)[0]
@@ -128,7 +156,8 @@ def fall_rows(m: Match, seconds: float) -> list[dict]:
             d[i] = np.inf
             p = w.players[i]
             rows.append({"time": round(float(ref.game_time), 2), "player": i, "side": str(p.side.value),
-                         "type": p.robot_type, "activity": recent[i][0], "after_getup": "getup" in recent[i],
+                         "type": p.robot_type, "activity": recent[i][0][0], "walk": recent[i][0][1],
+                         "after_getup": any(a == "getup" for a, _ in recent[i]),
                          "nearest_robot_m": round(float(d.min()), 2),
                          "ball_m": round(float(np.hypot(*(ball - xy[i]))), 2),
                          "touched": _names(np.bitwise_or.reduce(np.array(touched[i], dtype=np.int64)))})
@@ -155,6 +184,11 @@ def summary(rows: list[dict], players: dict[int, int], minutes: float) -> dict:
         "near_robot": share(sum(r["nearest_robot_m"] < NEAR for r in rows)),
         "after_getup": share(sum(r["after_getup"] for r in rows)),
         "ball_within_1m": share(sum(r["ball_m"] < 1.0 for r in rows)),
+        # Falls in the open (no robot within NEAR, none touching, not after a getup) by the
+        # walk's direction: the walk's own falls.
+        "open_walk": {k: share(v) for k, v in Counter(
+            r["walk"] for r in rows if r["nearest_robot_m"] >= NEAR and not r["after_getup"]
+            and not set(r["touched"]) - {"ball"}).most_common()},
         "touched": {**{k: share(sum(k in r["touched"] for r in rows)) for k in TOUCH},
                     "nothing": share(sum(not r["touched"] for r in rows))},
     }

@@ -40,9 +40,30 @@ def test_falls_are_reported_with_activity_and_neighbours():
     assert near["nearest_robot_m"] < falls.NEAR <= alone["nearest_robot_m"]
     assert near["activity"] in {"walkto", "stand", "kick", "dribble"} and not near["after_getup"]
     assert all(set(r["touched"]) <= set(falls.TOUCH) for r in rows)
+    assert all(r["walk"] in falls.WALKS for r in rows)
     s = falls.summary([r for r in rows if r["side"] == "L"], {0: 3, 1: 2, 2: 2, 3: 2, 4: 2}, 3.0 / 60)
     assert s["falls"] >= 2 and 0 < s["near_robot"] < 1
     assert set(s["touched"]) == {*falls.TOUCH, "nothing"} and s["touched"]["nothing"] > 0  # `alone`
+    assert s["open_walk"] and sum(s["open_walk"].values()) <= 1.0 + 1e-9  # `alone` fell in the open
+
+
+def test_the_walk_direction_is_the_largest_share_of_the_steps_maximum():
+    from types import SimpleNamespace
+
+    from skills.walk import WalkParams
+
+    def player(walking: bool, step: tuple[float, float, float]):
+        walk = SimpleNamespace(walking=walking, params=WalkParams(), step=np.array(step))
+        return SimpleNamespace(body=SimpleNamespace(motion=SimpleNamespace(walk=walk)))
+
+    p = WalkParams()  # max steps 0.05 m, 0.04 m, 1.22 rad
+    assert falls.walk_direction(player(True, (0.04, 0.01, 0.1))) == "forward"
+    assert falls.walk_direction(player(True, (-0.02, 0.005, 0.1))) == "backward"
+    assert falls.walk_direction(player(True, (0.02, -0.03, 0.1))) == "sideways"
+    assert falls.walk_direction(player(True, (0.0, 0.0, -0.5 * p.max_step_size_angle))) == "turning"
+    assert falls.walk_direction(player(True, (0.005, 0.004, 0.1))) == "in place"
+    assert falls.walk_direction(player(False, (0.04, 0.0, 0.0))) == "still"
+    assert falls.walk_direction(SimpleNamespace()) == ""
 
 
 def test_cli(capsys):
