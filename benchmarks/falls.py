@@ -122,8 +122,8 @@ def walk_direction(agent) -> str:
     f = (x / p.max_step_size_x, abs(y) / p.max_step_size_y, abs(th) / p.max_step_size_angle)
     k = int(np.argmax(np.abs(f)))
     if abs(f[k]) < 0.2:
-        return WALKS[4]
-    return (WALKS[0] if f[0] > 0 else WALKS[1], WALKS[2], WALKS[3])[k]
+        return "in place"
+    return ("forward" if f[0] > 0 else "backward", "sideways", "turning")[k]
 
 
 def fall_rows(m: Match, seconds: float) -> list[dict]:
