@@ -142,6 +142,8 @@ VARIANTS: dict[str, TeamConfig] = {
     "Hold": TeamConfig(dribble_hold=(0.2, 0.6, 0.1)),
     # The fast sets with a gentler push still (braking within 0.8 m): the first dribble to keep
     # the ball within 1 m at 0.35 m/s over 10 m (type 0, 3 of 10 tries; benchmarks.dribble).
+    # Against villa -0.10 +- 0.08 over 40 full games (4:8; territory -0.6 +- 0.5 m, possession
+    # 54%; benchmarks/results/fasthold-vs-villa/).
     "FastHold": TeamConfig(dribble_hold=(0.2, 0.8, 0.1)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
