@@ -25,6 +25,9 @@ Registered tasks (`TASKS`, built by `make_task(name, robot_type, **options)`):
 * ``dribble_walk`` (``seconds``, ``away_cost``): the team's own dribble (the body
   walks through the ball) for 20 s; learns the position-to-dribble set for a
   dribble that keeps the ball within 1 m (`optimization.dribble_walk`).
+* ``position_walk`` (``seconds``, ``fall_penalty``): the team's positioning walk to
+  moving targets, as in open play; learns the go-to-target set's gait with its
+  stand frozen (`optimization.position_walk`).
 * ``getup_front``, ``getup_back`` (A, L1,1 / L1,2): lying on the front or back,
   get up from percepts; fitness -(time not standing) over 4 s (`optimization.getup`).
 * ``sphere``, ``rosenbrock``: shifted analytic functions of ``dim``
@@ -73,6 +76,7 @@ from optimization.phases import (
     new_sim,
     run_phases,
 )
+from optimization.position_walk import position_walk
 from optimization.types import Task, TrialResult, Values
 
 RECOVERIES = ("trainer", "getup")
@@ -338,6 +342,7 @@ TASKS: dict[str, Callable[..., Task]] = {
     "kick_walking": kick_walking,
     "approach": approach,  # the ball approach, kick frozen
     "dribble_walk": dribble_walk,  # optimization.dribble_walk
+    "position_walk": position_walk,  # optimization.position_walk
     "sphere": _analytic("sphere"),
     "rosenbrock": _analytic("rosenbrock"),
 }
