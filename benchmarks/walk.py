@@ -26,6 +26,11 @@ JSON line per robot type:
   instead of 0 took the zigzag's falls from 53 to 32-36 of 200 runs and the
   course's runs with a fall from 23 to 28-34 of 100 (heading_gain 0 and a turn
   slowdown went the same way), so a change is judged on the course;
+* positioning (`--position-runs`, `positioning`): the team's own walk to a position
+  (`optimization.position_walk.position_run`: a villa player on its percepts, WalkTo
+  targets 0.5-4 m away at any bearing, a new one every 1.5-3 s, drifting), 30 s a run,
+  with this benchmark's walk sets: the falls and the distance gained toward the targets.
+  It is where most of villa's falls in open play come from (`benchmarks.falls`);
 * getup success and mean time from front and back (`benchmarks.getup`).
 
 Goals for the hand-tuned defaults (issue 3): forward >= 0.3 m/s, sideways
@@ -51,7 +56,7 @@ in 100 (type 3).
 
     python -m benchmarks.walk [--types 0,1,2,3,4] [--seconds 10] [--speed-runs N]
                               [--course-runs N] [--params FILE ...] [--skip-speeds]
-                              [--zigzag-runs N] [--getup-tries N]
+                              [--zigzag-runs N] [--position-runs N] [--getup-tries N]
 """
 
 from __future__ import annotations
@@ -90,6 +95,7 @@ FALL_MOTIONS = tuple(f"{m}{t}" for m in ("in place", "speeding up", "steady", "s
 
 ZIGZAG_SECONDS = 12.0
 
+POSITION_SECONDS = 30.0  # s, one positioning run
 PARAMS: list[str] = []  # walk parameter files loaded after the shipped ones (--params)
 
 
@@ -259,6 +265,19 @@ def speeds(t: int, seconds: float, runs: int) -> dict:
     return row
 
 
+def positioning(t: int, runs: int, seconds: float = POSITION_SECONDS) -> dict:
+    """`runs` seeded runs of the team's positioning walk on this benchmark's walk sets."""
+    from optimization.position_walk import position_run
+
+    sets = load_walk_sets([*default_param_files(t), *PARAMS])
+    rs = [position_run(t, np.random.default_rng([t, k]), 1000 * t + k, seconds, sets=sets)
+          for k in range(runs)]
+    fell = sum(r.falls > 0 for r in rs)
+    return {"runs": runs, "seconds": seconds, "falls": sum(r.falls for r in rs), "runs_with_falls": fell,
+            "runs_with_falls_ci95": rate_ci(fell, runs),
+            "gained_m": round(float(np.mean([r.gained for r in rs])), 2)}
+
+
 def getups(t: int, tries: int) -> dict | None:
     from benchmarks.getup import getup_stats
     return getup_stats(t, tries) if tries > 0 else None
@@ -281,13 +300,16 @@ def main() -> None:
                     help="course runs per type; runs after the first start from perturbed joints")
     ap.add_argument("--zigzag-runs", type=int, default=20,
                     help="zigzag runs per type (0: none); runs after the first start from perturbed joints")
+    ap.add_argument("--position-runs", type=int, default=20,
+                    help=f"positioning runs ({POSITION_SECONDS:g} s each) per type (0: none)")
     ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
                     help="walk parameter files loaded after the shipped ones (e.g. a CMA-ES best.txt)")
     ap.add_argument("--skip-speeds", action="store_true", help="only the course (and getups)")
     args = ap.parse_args()
-    if args.speed_runs < 1 or args.course_runs < 1 or args.seconds <= 0 or args.zigzag_runs < 0:
-        ap.error("--speed-runs and --course-runs must be at least 1, --zigzag-runs at least 0, "
-                 "--seconds above 0")
+    if (args.speed_runs < 1 or args.course_runs < 1 or args.seconds <= 0 or args.zigzag_runs < 0
+            or args.position_runs < 0):
+        ap.error("--speed-runs and --course-runs must be at least 1, --zigzag-runs and --position-runs "
+                 "at least 0, --seconds above 0")
     PARAMS[:] = args.params
     for t in (int(v) for v in args.types.split(",")):
         try:  # a bad file fails here, with file:line
@@ -318,6 +340,8 @@ def main() -> None:
                              "runs_with_falls_ci95": rate_ci(zf, len(zz)),
                              "fell_at_s": [r["fell_at_s"] for r in zz if r["fell"]],
                              "distance_m": [r["distance_m"] for r in zz]}
+        if args.position_runs:
+            row["positioning"] = positioning(t, args.position_runs)
         row.update({"getup": getups(t, args.getup_tries),
                     "wall_seconds": round(time.perf_counter() - start, 1), "machine": info})
         print(json.dumps(row), flush=True)

@@ -32,3 +32,18 @@ def test_zigzag_swings_the_heading_both_ways_while_walking_forward():
     assert not r["fell"] and r["fell_at_s"] is None
     assert r["left_deg"] > 10.0 and r["right_deg"] > 10.0
     assert r["distance_m"] > 0.25
+
+
+def test_positioning_walks_the_benchmarks_own_walk_sets(tmp_path, monkeypatch):
+    """The team's positioning walk runs on the files the benchmark measures: steps cut to
+    8 mm by an extra parameter file gain far less ground toward the targets."""
+    import benchmarks.walk as bw
+
+    short = tmp_path / "short.txt"
+    short.write_text("max_step_size_x\t8\nmax_step_size_y\t8\n")
+    monkeypatch.setattr(bw, "PARAMS", [])
+    plain = bw.positioning(2, runs=2, seconds=8.0)
+    monkeypatch.setattr(bw, "PARAMS", [str(short)])
+    cut = bw.positioning(2, runs=2, seconds=8.0)
+    assert plain["runs"] == 2 and plain["falls"] == 0
+    assert cut["gained_m"] < plain["gained_m"] - 0.5
