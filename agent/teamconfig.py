@@ -65,6 +65,8 @@ class TeamConfig:
     path_cost: bool = False  # role costs walk round the ball and the on-ball player (PtW 6)
     sprint_within: float | None = None  # deg: the sprint set toward a target this straight ahead (A.1.4) ...
     sprint_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # ... for these robot types
+    # Turn input per second the team's walk may grow by (agent.body.Body's turn_ramp; 0: at once).
+    turn_ramp: float = 0.0
     # Walk parameter files loaded after a type's shipped ones, "{type}" standing for the robot
     # type (files in skills/data or paths; a type without its file keeps the shipped walk).
     # The fast sets: those of types 0 and 1 beat villa without them (villa:SlowWalk) by +0.25 +-
@@ -145,6 +147,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # Against villa -0.10 +- 0.08 over 40 full games (4:8; territory -0.6 +- 0.5 m, possession
     # 54%; benchmarks/results/fasthold-vs-villa/).
     "FastHold": TeamConfig(dribble_hold=(0.2, 0.8, 0.1)),
+    # The turn input ramped up over 0.5 s (issue 47: fewer falls in open play). Walking to a
+    # position, the player turned in place at full input right after walking forward at full
+    # input, and type 0 fell there (7 of 20 tries, none ramped; benchmarks.walk's positioning).
+    "TurnRamp": TeamConfig(turn_ramp=2.0),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),
