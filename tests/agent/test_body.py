@@ -136,3 +136,33 @@ def test_a_held_dribble_pushes_with_the_dribble_set_at_its_own_gain():
     assert HOLD_SET not in Player("L", 2, 1).body.motion.walk.sets
     with pytest.raises(ValueError, match=r"dribble_hold \(0.2, 0.0, 0.1\): the brake must be > 0"):
         Player("L", 2, 1, config=TeamConfig(dribble_hold=(0.2, 0.0, 0.1)))
+
+
+def test_the_turn_ramp_grows_the_turn_input_slowly_and_shrinks_it_at_once():
+    from agent.body import Body
+    from models.rules import CYCLE
+
+    body = Body(0, turn_ramp=2.0)
+    seen = [body._ramp(k * CYCLE, 1.0) for k in range(1, 30)]
+    assert seen[0] == pytest.approx(2.0 * CYCLE)
+    assert np.diff(seen)[:23] == pytest.approx(2.0 * CYCLE)  # 0.04 a cycle, full input after 0.5 s
+    assert seen[-1] == 1.0
+    assert body._ramp(30 * CYCLE, 0.3) == 0.3  # shrinking at once
+    assert body._ramp(31 * CYCLE, -1.0) == pytest.approx(-2.0 * CYCLE)  # the other side from 0
+    assert body._ramp(40 * CYCLE, -1.0) == pytest.approx(-2.0 * CYCLE)  # after a pause, from 0
+    assert Body(0).turn_ramp == 0.0  # off unless asked for
+    with pytest.raises(ValueError, match="turn_ramp -1"):
+        Body(0, turn_ramp=-1.0)
+
+
+def test_the_turn_ramp_keeps_type_0_up_walking_to_moving_positions():
+    """Two positioning runs (optimization.position_walk) in which villa's type 0 fell,
+    turning in place at full input right after walking forward: ramped, it does not."""
+    from optimization.position_walk import position_run
+
+    def falls(name: str) -> list[int]:
+        return [position_run(0, np.random.default_rng([0, k]), k, 30.0, config=variant(name)).falls
+                for k in (2, 5)]
+
+    assert falls("FastWalk") == [1, 1]
+    assert falls("TurnRamp") == [0, 0]
