@@ -30,7 +30,15 @@ JSON line per robot type:
   (`optimization.position_walk.position_run`: a villa player on its percepts, WalkTo
   targets 0.5-4 m away at any bearing, a new one every 1.5-3 s, drifting), 30 s a run,
   with this benchmark's walk sets: the falls and the distance gained toward the targets.
-  It is where most of villa's falls in open play come from (`benchmarks.falls`);
+  It is where most of villa's falls in open play come from (`benchmarks.falls`). With
+  `--variant NAME` a villa variant's body walks them (its team features, such as TurnRamp's
+  ramped turn input; the walk sets stay this benchmark's). Villa's fast sets
+  (`--params skills/data/walk_fast_typeT.txt --position-runs 40`, December 7, 2026): runs
+  with a fall 8 and 7 of 40 (types 0 and 1), 5.74 and 5.95 m gained a run; 7 of type 0's 8
+  falls came turning in place at full input right after walking forward at full input.
+  `--variant TurnRamp`, the turn input ramped over 0.5 s: runs with a fall 8 -> 0, 7 -> 5
+  and 5 -> 0 (types 0, 1, 4), ground gained 6-9% less (5.74 -> 5.40, 5.95 -> 5.39, 5.36 ->
+  5.01 m);
 * getup success and mean time from front and back (`benchmarks.getup`).
 
 Goals for the hand-tuned defaults (issue 3): forward >= 0.3 m/s, sideways
@@ -56,7 +64,8 @@ in 100 (type 3).
 
     python -m benchmarks.walk [--types 0,1,2,3,4] [--seconds 10] [--speed-runs N]
                               [--course-runs N] [--params FILE ...] [--skip-speeds]
-                              [--zigzag-runs N] [--position-runs N] [--getup-tries N]
+                              [--zigzag-runs N] [--position-runs N] [--variant NAME]
+                              [--getup-tries N]
 """
 
 from __future__ import annotations
@@ -265,12 +274,16 @@ def speeds(t: int, seconds: float, runs: int) -> dict:
     return row
 
 
-def positioning(t: int, runs: int, seconds: float = POSITION_SECONDS) -> dict:
-    """`runs` seeded runs of the team's positioning walk on this benchmark's walk sets."""
+def positioning(t: int, runs: int, seconds: float = POSITION_SECONDS, variant: str | None = None) -> dict:
+    """`runs` seeded runs of the team's positioning walk on this benchmark's walk sets, by
+    villa's body or a variant's."""
+    from agent.teamconfig import VILLA
+    from agent.teamconfig import variant as team_variant
     from optimization.position_walk import position_run
 
+    config = VILLA if variant is None else team_variant(variant)
     sets = load_walk_sets([*default_param_files(t), *PARAMS])
-    rs = [position_run(t, np.random.default_rng([t, k]), 1000 * t + k, seconds, sets=sets)
+    rs = [position_run(t, np.random.default_rng([t, k]), 1000 * t + k, seconds, config=config, sets=sets)
           for k in range(runs)]
     fell = sum(r.falls > 0 for r in rs)
     return {"runs": runs, "seconds": seconds, "falls": sum(r.falls for r in rs), "runs_with_falls": fell,
@@ -302,6 +315,8 @@ def main() -> None:
                     help="zigzag runs per type (0: none); runs after the first start from perturbed joints")
     ap.add_argument("--position-runs", type=int, default=20,
                     help=f"positioning runs ({POSITION_SECONDS:g} s each) per type (0: none)")
+    ap.add_argument("--variant", default=None,
+                    help="the villa variant whose body walks the positioning runs (e.g. TurnRamp)")
     ap.add_argument("--params", nargs="+", default=[], metavar="FILE",
                     help="walk parameter files loaded after the shipped ones (e.g. a CMA-ES best.txt)")
     ap.add_argument("--skip-speeds", action="store_true", help="only the course (and getups)")
@@ -310,6 +325,13 @@ def main() -> None:
             or args.position_runs < 0):
         ap.error("--speed-runs and --course-runs must be at least 1, --zigzag-runs and --position-runs "
                  "at least 0, --seconds above 0")
+    if args.variant is not None:
+        from agent.teamconfig import UnknownVariant
+        from agent.teamconfig import variant as team_variant
+        try:
+            team_variant(args.variant)
+        except UnknownVariant as e:
+            ap.error(str(e))
     PARAMS[:] = args.params
     for t in (int(v) for v in args.types.split(",")):
         try:  # a bad file fails here, with file:line
@@ -319,7 +341,7 @@ def main() -> None:
     info = machine()
     for t in (int(v) for v in args.types.split(",")):
         start = time.perf_counter()
-        row: dict = {"benchmark": "walk", "type": t, "params": args.params}
+        row: dict = {"benchmark": "walk", "type": t, "params": args.params, "variant": args.variant}
         if not args.skip_speeds:
             row.update(speeds(t, args.seconds, args.speed_runs))
         rng = np.random.default_rng(t)
@@ -341,7 +363,7 @@ def main() -> None:
                              "fell_at_s": [r["fell_at_s"] for r in zz if r["fell"]],
                              "distance_m": [r["distance_m"] for r in zz]}
         if args.position_runs:
-            row["positioning"] = positioning(t, args.position_runs)
+            row["positioning"] = positioning(t, args.position_runs, variant=args.variant)
         row.update({"getup": getups(t, args.getup_tries),
                     "wall_seconds": round(time.perf_counter() - start, 1), "machine": info})
         print(json.dumps(row), flush=True)
