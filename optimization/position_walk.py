@@ -27,6 +27,7 @@ from agent.posture import PostureAgent
 from agent.requests import SkillRequest, Stand, WalkTo
 from agent.strategy import TeamView
 from agent.teamconfig import VILLA, TeamConfig
+from models.geometry import rotate
 from models.rules import PlayMode
 from models.scene import Lineup
 from optimization.paramvec import walk_sets
@@ -93,8 +94,8 @@ def position_run(robot_type: int, rng: np.random.Generator, seed: int, seconds: 
     while w.time < t_end - 1e-9:
         here = np.asarray(w.player_pose(0)[:2])
         d, a = rng.uniform(*reach), rng.uniform(-math.pi, math.pi)
-        target = np.clip(here + d * np.array([math.cos(a), math.sin(a)]), AREA[::2], AREA[1::2])
-        v = drift * rng.uniform(0.0, 1.0) * _unit(rng.uniform(-math.pi, math.pi))
+        target = np.clip(here + rotate(d, 0.0, a), AREA[::2], AREA[1::2])
+        v = np.array(rotate(drift * rng.uniform(0.0, 1.0), 0.0, rng.uniform(-math.pi, math.pi)))
         face = float(rng.uniform(-math.pi, math.pi))
         d0 = float(np.hypot(*(target - here)))
         t0, length = w.time, min(float(rng.uniform(*hop)), t_end - w.time)
@@ -106,10 +107,6 @@ def position_run(robot_type: int, rng: np.random.Generator, seed: int, seconds: 
         gained += d0 - float(np.hypot(*(end - np.asarray(w.player_pose(0)[:2]))))
         hops += 1
     return PositionRun(gained, hops, int(m.referee.falls["L"]))
-
-
-def _unit(a: float) -> np.ndarray:
-    return np.array([math.cos(a), math.sin(a)])
 
 
 @dataclass(frozen=True)
@@ -134,6 +131,7 @@ class PositionWalkTask:
 
     @property
     def worst(self) -> float:
+        """A fall every 5 s, no ground gained."""
         return -self.fall_penalty * self.seconds / 5.0
 
     def trial(self, values: Values, seed: int) -> TrialResult:
