@@ -16,7 +16,7 @@ CONFIG = "job.json"
 HELP = """\
 TASK is a registered task (go_to_target, sprint, walk_forward, position_to_dribble,
 getup_front, getup_back, kick_distance, long_kick, kick_walking, approach, dribble_walk,
-sphere, rosenbrock) or a task file of layers (optimization/tasks/NAME.task, or a path;
+position_walk, sphere, rosenbrock) or a task file of layers (optimization/tasks/NAME.task, or a path;
 walk.task is the walk part of Figure 4.1).
 
 Each generation prints one line on stderr; the job directory (--out) holds

@@ -23,17 +23,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from agent.player import Player
-from agent.posture import PostureAgent
 from agent.requests import Dribble, SkillRequest, Stand
 from agent.strategy import TeamView
 from agent.teamconfig import VILLA, TeamConfig
 from models.rules import PlayMode
-from models.scene import Lineup
 from optimization.paramvec import walk_sets
 from optimization.phases import FALL_PENALTY
-from optimization.trials import place_player
+from optimization.trials import place_player, solo_match
 from optimization.types import TrialResult, Values
-from server.match import Match
 from skills.walk import WalkParams
 
 HOLD = 1.0  # m: the ball within this of the torso counts as held
@@ -77,15 +74,7 @@ def dribble_run(robot_type: int, rng: np.random.Generator, seed: int, distance: 
     """Dribble `distance` m within `limit` s; `sets` replace the body's walk sets of those
     names (the optimization's candidates)."""
 
-    def dribbler(side: str, unum: int, t: int, s: int) -> Dribbler:
-        p = Dribbler(side, unum, t, s, config)
-        if sets:
-            p.body.motion.walk.sets.update(sets)
-        return p
-
-    m = Match(dribbler, PostureAgent, Lineup((robot_type,), (0,)), half_time=10 * limit, seed=seed)
-    for _ in range(60):  # the beam and the first settling
-        m.step()
+    m = solo_match(Dribbler, robot_type, seed, 10 * limit, config, sets)
     w = m.world
     ball = np.array(BALL_START) + rng.normal(0.0, 0.1, 2)
     a = math.radians(rng.uniform(-spread, spread))

@@ -23,18 +23,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from agent.player import Player
-from agent.posture import PostureAgent
 from agent.requests import SkillRequest, Stand, WalkTo
 from agent.strategy import TeamView
 from agent.teamconfig import VILLA, TeamConfig
 from models.geometry import rotate
 from models.rules import PlayMode
-from models.scene import Lineup
 from optimization.paramvec import walk_sets
 from optimization.phases import FALL_PENALTY
-from optimization.trials import place_player
+from optimization.trials import place_player, solo_match
 from optimization.types import TrialResult, Values
-from server.match import Match
 from skills.walk import WalkParams
 
 AREA = (-10.0, 10.0, -7.0, 7.0)  # m, field frame: targets are kept inside (x0, x1, y0, y1)
@@ -74,15 +71,7 @@ def position_run(robot_type: int, rng: np.random.Generator, seed: int, seconds: 
     """`seconds` of walking to moving targets; `sets` replace the body's walk sets of those
     names (the optimization's candidates)."""
 
-    def positioner(side: str, unum: int, t: int, s: int) -> Positioner:
-        p = Positioner(side, unum, t, s, config)
-        if sets:
-            p.body.motion.walk.sets.update(sets)
-        return p
-
-    m = Match(positioner, PostureAgent, Lineup((robot_type,), (0,)), half_time=10 * seconds, seed=seed)
-    for _ in range(60):  # the beam and the first settling
-        m.step()
+    m = solo_match(Positioner, robot_type, seed, 10 * seconds, config, sets)
     w = m.world
     agent = m.agents[0]
     place_player(m, 0, *START, float(rng.uniform(-math.pi, math.pi)))

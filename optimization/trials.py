@@ -12,6 +12,7 @@ at its start (m, rad).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import mujoco
@@ -35,6 +36,7 @@ from skills.align import Align
 from skills.dive import Dive
 from skills.kicks.ik import IkKick
 from skills.motion import Motion
+from skills.walk import WalkParams
 
 LIMIT = 10.0  # s from the dive's start to standing again
 LOW = 0.5  # the torso is down below this fraction of the standing height
@@ -258,6 +260,24 @@ def backswing_clearance(kick: IkKick, ball: tuple[float, float] | None = None) -
                 best, at = dist, float(s)
     kick.reset()
     return best, at
+
+
+def solo_match(player: type, robot_type: int, seed: int, half_time: float, config: TeamConfig,
+               sets: Mapping[str, WalkParams] | None = None) -> Match:
+    """A match of one `player` (a villa `Player` subclass whose decision a task replaces,
+    playing `config`; its body's walk sets of `sets`' names replaced: an optimization's
+    candidates) against one posture robot, after the beams and the first settling."""
+
+    def make(side: str, unum: int, t: int, s: int):
+        p = player(side, unum, t, s, config)
+        if sets:
+            p.body.motion.walk.sets.update(sets)
+        return p
+
+    m = Match(make, PostureAgent, Lineup((robot_type,), (0,)), half_time=half_time, seed=seed)
+    for _ in range(60):
+        m.step()
+    return m
 
 
 def place_player(m: Match, i: int, x: float, y: float, heading: float) -> None:
