@@ -151,7 +151,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # position, the player turned in place at full input right after walking forward at full
     # input, and type 0 fell there (7 of 20 tries, none ramped; benchmarks.walk's positioning).
     # Against villa +0.01 +- 0.07 over 80 full games (11:10), territory +0.8 +- 0.35 m, falls
-    # 33.1 against 38.7 a game (benchmarks/results/turnramp-vs-villa/).
+    # 33.1 against 38.7 a game (benchmarks/results/turnramp-vs-villa/); against posture +5.47 +-
+    # 0.12 over 32 full games, villa +5.28 +- 0.16 (turnramp-vs-posture/, villa-vs-posture-dec7/).
     "TurnRamp": TeamConfig(turn_ramp=2.0),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
