@@ -154,6 +154,11 @@ VARIANTS: dict[str, TeamConfig] = {
     # 33.1 against 38.7 a game (benchmarks/results/turnramp-vs-villa/); against posture +5.47 +-
     # 0.12 over 32 full games, villa +5.28 +- 0.16 (turnramp-vs-posture/, villa-vs-posture-dec7/).
     "TurnRamp": TeamConfig(turn_ramp=2.0),
+    # Sprint sets learned from the fast stands (issue 47; skills/data/walk_fast_sprint_type*.txt,
+    # optimization/tasks/sprint_course.task), walked toward a target within 15 deg: straight
+    # ahead 1.13-1.29x as fast as the go-to-target sets (types 1-4; type 0's was no faster).
+    "FastSprint": TeamConfig(sprint_within=15.0, sprint_types=(1, 2, 3, 4),
+                             walk_files=(*FAST_WALK_FILES, "walk_fast_sprint_type{type}.txt")),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -114,7 +115,6 @@ def test_path_cost_sends_the_player_behind_the_ball_to_the_position_behind_it():
 
 @pytest.mark.parametrize("name", sorted(MAKERS))
 def test_variant_formations_load(name):
-    from pathlib import Path
     f = Formation.load(Path(__file__).resolve().parents[2] / "formations" / "data" / f"{name}.formation")
     assert f.roles == Formation.default().roles
     for ball in ((0.0, 0.0), (9.0, -5.0), (-13.0, 8.0)):
@@ -203,6 +203,33 @@ def test_villa_walks_on_the_fast_sets_and_slowwalk_on_the_shipped_ones():
     kicks = Player("L", 2, 0).body.kicks["kick_left"]
     assert kicks.base_slew == pytest.approx(math.radians(125.4))  # kick_fast_type0.params
     assert Player("L", 2, 0, config=variant("SlowWalk")).body.kicks["kick_left"].base_slew != kicks.base_slew
+
+
+def test_fast_sprint_walks_straight_ahead_on_sprint_sets_from_the_fast_stands():
+    """villa:FastSprint keeps villa's go-to-target sets and sprints (types 1-4) on sets
+    learned from their stands; type 3's walks farther in 6 s straight ahead than its
+    go-to-target set, without falling."""
+    import benchmarks.walk as bw
+    from agent.player import Player
+    from agent.teamconfig import variant
+
+    for t in range(5):
+        body = Player("L", 2, t, config=variant("FastSprint")).body
+        sets = body.motion.walk.sets
+        assert sets["go_to_target"] == Player("L", 2, t).body.motion.walk.sets["go_to_target"]
+        assert (body.sprint_within is None) == (t == 0)
+        if t > 0:  # learned from the go-to-target stand: within 4 mm of its height
+            assert abs(sets["sprint"].walk_height - sets["go_to_target"].walk_height) < 0.004
+    files = ["skills/data/walk_fast_type3.txt", "skills/data/walk_fast_sprint_type3.txt"]
+    old = bw.PARAMS[:]
+    bw.PARAMS[:] = [str(Path(__file__).resolve().parents[2] / f) for f in files]
+    try:
+        go = bw.constant_walk(3, (1.0, 0.0, 0.0), 6.0)
+        sprint = bw.constant_walk(3, (1.0, 0.0, 0.0), 6.0, "sprint")
+    finally:
+        bw.PARAMS[:] = old
+    assert not go["fell"] and not sprint["fell"]
+    assert sprint["vx"] > go["vx"] + 0.05  # m/s
 
 
 def test_file_types_limit_the_walk_and_kick_files_to_those_types():
