@@ -205,7 +205,7 @@ def test_villa_walks_on_the_fast_sets_and_slowwalk_on_the_shipped_ones():
     assert Player("L", 2, 0, config=variant("SlowWalk")).body.kicks["kick_left"].base_slew != kicks.base_slew
 
 
-def test_fast_sprint_walks_straight_ahead_on_sprint_sets_from_the_fast_stands():
+def test_fast_sprint_walks_straight_ahead_on_sprint_sets_from_the_fast_stands(monkeypatch):
     """villa:FastSprint keeps villa's go-to-target sets and sprints (types 1-4) on sets
     learned from their stands; type 3's walks farther in 6 s straight ahead than its
     go-to-target set, without falling."""
@@ -221,13 +221,9 @@ def test_fast_sprint_walks_straight_ahead_on_sprint_sets_from_the_fast_stands():
         if t > 0:  # learned from the go-to-target stand: within 4 mm of its height
             assert abs(sets["sprint"].walk_height - sets["go_to_target"].walk_height) < 0.004
     files = ["skills/data/walk_fast_type3.txt", "skills/data/walk_fast_sprint_type3.txt"]
-    old = bw.PARAMS[:]
-    bw.PARAMS[:] = [str(Path(__file__).resolve().parents[2] / f) for f in files]
-    try:
-        go = bw.constant_walk(3, (1.0, 0.0, 0.0), 6.0)
-        sprint = bw.constant_walk(3, (1.0, 0.0, 0.0), 6.0, "sprint")
-    finally:
-        bw.PARAMS[:] = old
+    monkeypatch.setattr(bw, "PARAMS", [str(Path(__file__).resolve().parents[2] / f) for f in files])
+    go = bw.constant_walk(3, (1.0, 0.0, 0.0), 6.0)
+    sprint = bw.constant_walk(3, (1.0, 0.0, 0.0), 6.0, "sprint")
     assert not go["fell"] and not sprint["fell"]
     assert sprint["vx"] > go["vx"] + 0.05  # m/s
 
