@@ -212,6 +212,7 @@ def test_fast_sprint_walks_straight_ahead_on_sprint_sets_from_the_fast_stands(mo
     import benchmarks.walk as bw
     from agent.player import Player
     from agent.teamconfig import variant
+    from skills.walk import DATA as SKILL_DATA
 
     for t in range(5):
         body = Player("L", 2, t, config=variant("FastSprint")).body
@@ -220,8 +221,8 @@ def test_fast_sprint_walks_straight_ahead_on_sprint_sets_from_the_fast_stands(mo
         assert (body.sprint_within is None) == (t == 0)
         if t > 0:  # learned from the go-to-target stand: within 4 mm of its height
             assert abs(sets["sprint"].walk_height - sets["go_to_target"].walk_height) < 0.004
-    files = ["skills/data/walk_fast_type3.txt", "skills/data/walk_fast_sprint_type3.txt"]
-    monkeypatch.setattr(bw, "PARAMS", [str(Path(__file__).resolve().parents[2] / f) for f in files])
+    files = ["walk_fast_type3.txt", "walk_fast_sprint_type3.txt"]
+    monkeypatch.setattr(bw, "PARAMS", [str(SKILL_DATA / f) for f in files])
     go = bw.constant_walk(3, (1.0, 0.0, 0.0), 6.0)
     sprint = bw.constant_walk(3, (1.0, 0.0, 0.0), 6.0, "sprint")
     assert not go["fell"] and not sprint["fell"]
