@@ -10,8 +10,9 @@ import math
 from dataclasses import dataclass
 
 # The go-to-target sets learned with the stand free (issue 47; skills/data/walk_fast_type*.txt,
-# every type) and the keyframe kicks' settings for that stand (kick_fast_type*.params, type 0).
-FAST_WALK_FILES = ("walk_fast_type{type}.txt",)
+# every type), the sprint sets learned from their stands (walk_fast_sprint_type*.txt, types 1-4)
+# and the keyframe kicks' settings for that stand (kick_fast_type*.params, type 0).
+FAST_WALK_FILES = ("walk_fast_type{type}.txt", "walk_fast_sprint_type{type}.txt")
 FAST_KICK_FILES = ("kick_fast_type{type}.params",)
 
 
@@ -63,8 +64,11 @@ class TeamConfig:
     formation_shift: float = 0.0  # m added to every formation x (+: offensive, -: defensive)
     nearest_stopper: bool = False  # the supporter role goes to the nearest field player first (PtW 6)
     path_cost: bool = False  # role costs walk round the ball and the on-ball player (PtW 6)
-    sprint_within: float | None = None  # deg: the sprint set toward a target this straight ahead (A.1.4) ...
-    sprint_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # ... for these robot types
+    # deg: the sprint set toward a target this straight ahead (A.1.4) for sprint_types (None:
+    # never). villa:FastSprint beat villa without it (villa:NoSprint) by +0.21 +- 0.07 goals over
+    # 80 full games, territory +1.4 +- 0.3 m (benchmarks/results/fastsprint-vs-villa/).
+    sprint_within: float | None = 15.0
+    sprint_types: tuple[int, ...] = (1, 2, 3, 4)  # type 0's sprint set was no faster than its go-to-target
     # Turn input per second the team's walk may grow by (agent.body.Body's turn_ramp; 0: at once).
     turn_ramp: float = 0.0
     # Walk parameter files loaded after a type's shipped ones, "{type}" standing for the robot
@@ -82,9 +86,9 @@ VILLA = TeamConfig()
 
 
 def _shipped_walk(*walk_files: str) -> TeamConfig:
-    """The team on the shipped walk sets and kicks with `walk_files` after them: the walk
-    variants measured before the fast sets shipped."""
-    return TeamConfig(walk_files=walk_files, kick_files=())
+    """The team on the shipped walk sets and kicks with `walk_files` after them, not
+    sprinting: the walk variants measured before the fast sets shipped."""
+    return TeamConfig(walk_files=walk_files, kick_files=(), sprint_within=None)
 
 
 # "Positioning to Win" section 6's variants of the base team (Table 2), and a few more.
@@ -115,21 +119,25 @@ VARIANTS: dict[str, TeamConfig] = {
     # territory -1.6 +- 0.5 m (shotsonly-vs-villa-dec7/).
     "ShotsOnly": TeamConfig(kicks=True, passes=False),
     "WideBox": TeamConfig(kick_box=1.5),  # kicks start from a stance box 1.5x as wide: fewer aligns
-    # The sprint set toward targets within 15 deg; not type 2, whose sprint sets fall on the
-    # sprint course (changing back to go-to-target): 12 of 16 runs with the shipped one.
-    "Sprint": TeamConfig(sprint_within=15.0, sprint_types=(0, 1, 3, 4)),
+    # The shipped sprint sets toward targets within 15 deg, on the shipped walk; not type 2,
+    # whose sprint sets fall on the sprint course (changing back to go-to-target): 12 of 16
+    # runs with the shipped one.
+    "Sprint": TeamConfig(sprint_within=15.0, sprint_types=(0, 1, 3, 4), walk_files=(), kick_files=()),
     # The go-to-target sets learned with the stand free (FAST_WALK_FILES): villa since December
     # 7, 2026. Types 0 and 1's against the team before (SlowWalk) +0.25 +- 0.08 over 40 full
     # games (10:0), territory +3.9 +- 0.5 m, falls 33.6 against 27.0 a game
     # (benchmarks/results/fastwalk-vs-villa-dec7/); types 2-4's against FastWalk01 +0.28 +- 0.09
     # (12:1), territory +2.1 +- 0.5 m, falls 38.0 against 34.2 (fastwalk234-vs-villa/).
-    "FastWalk": TeamConfig(),
-    "FastWalk01": TeamConfig(file_types=(0, 1)),  # only types 0 and 1 on the fast sets: villa that morning
+    # (FastWalk does not sprint: villa until midday December 7, 2026; NoSprint the same.)
+    "FastWalk": TeamConfig(sprint_within=None),
+    "NoSprint": TeamConfig(sprint_within=None),
+    # only types 0 and 1 on the fast sets: villa that morning
+    "FastWalk01": TeamConfig(file_types=(0, 1), sprint_within=None),
     "SlowWalk": _shipped_walk(),  # every type on its shipped walk sets and kicks: villa until then
     # Walks through the ball with a position-to-dribble set learned for a dribble that keeps
     # the ball near (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_dribble_type*.txt).
     "DribbleWalk": TeamConfig(dribble_set="position_to_dribble", walk_files=("walk_dribble_type{type}.txt",),
-                              kick_files=()),
+                              kick_files=(), sprint_within=None),
     # Walks through the ball with position-to-dribble sets learned from the fast sets' stands
     # (issue 47; optimization/tasks/dribble_walk.task, skills/data/walk_fast_dribble_type*.txt).
     # Fewer dribble falls (benchmarks.dribble: 13 -> 1 in 40 tries, types 0, 1, 2, 4) but
@@ -158,9 +166,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # optimization/tasks/sprint_course.task), walked toward a target within 15 deg: straight
     # ahead 1.13-1.29x as fast as the go-to-target sets (types 1-4; type 0's was no faster).
     # Against villa +0.21 +- 0.07 over 80 full games (20:3), territory +1.4 +- 0.3 m, falls 43.4
-    # against 39.7 a game (benchmarks/results/fastsprint-vs-villa/).
-    "FastSprint": TeamConfig(sprint_within=15.0, sprint_types=(1, 2, 3, 4),
-                             walk_files=(*FAST_WALK_FILES, "walk_fast_sprint_type{type}.txt")),
+    # against 39.7 a game (benchmarks/results/fastsprint-vs-villa/). villa itself since
+    # midday December 7, 2026; the team before is NoSprint.
+    "FastSprint": TeamConfig(),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),

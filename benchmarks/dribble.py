@@ -63,7 +63,7 @@ go-to-target values (0.405 m/s, gap 2.62 m, no falls, as villa). In games it tie
 (+0.00 +- 0.08 over 40).
 
 `--variant NAME` dribbles with a villa variant's body (`villa:Sprint`: the sprint
-set toward a target within 15 deg, through the ball too).
+set toward a target within 15 deg on the shipped walk; never through the ball).
 
 `--variant DribbleWalk` (position-to-dribble sets learned on this run's 20 s form, the
 `dribble_walk` task, types 0-2 and 4; type 3's run found nothing better), 8 tries a type,
