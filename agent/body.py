@@ -62,7 +62,8 @@ class Body:
 
     kick_box: the kicks' tolerance boxes (where the approach must stop) scaled by this;
     sprint_within: the bearing (deg) within which a far target is walked to with the
-    "sprint" set, not "go_to_target" (None: never; `skills.navigate.sprints`);
+    "sprint" set, not "go_to_target" (None: never; `skills.navigate.sprints`), once the walk
+    steps forward at `sprint_from` of the go-to-target set's longest step (0: from a stand);
     walk_sets: the walk sets (default: the type's shipped ones); kick_params: keyframe kick
     parameter files loaded after the shipped ones; dribble_set: the walk set a dribble walks
     through the ball with; funnel: line a dribble up with `_funnel`, not `_line_up`;
@@ -74,7 +75,8 @@ class Body:
     def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None,
                  walk_sets: Mapping[str, WalkParams] | None = None, kick_params: Sequence[Path] = (),
                  dribble_set: str = "go_to_target", funnel: bool = False,
-                 dribble_hold: tuple[float, float, float] | None = None, turn_ramp: float = 0.0) -> None:
+                 dribble_hold: tuple[float, float, float] | None = None, turn_ramp: float = 0.0,
+                 sprint_from: float = 0.0) -> None:
         self.robot_type = robot_type
         if turn_ramp < 0.0:
             raise ValueError(f"turn_ramp {turn_ramp}: must be >= 0 (turn input a second; 0: off)")
@@ -82,6 +84,7 @@ class Body:
         self.dribble_set = dribble_set
         self.funnel = funnel
         self.sprint_within = None if sprint_within is None else math.radians(sprint_within)
+        self.sprint_from = sprint_from
         self.kicks = all_kicks(robot_type, keyframe_params=list(kick_params))
         if kick_box != 1.0:  # a wider box to stop in: fewer aligns, a less exact kick
             for k in self.kicks.values():
@@ -278,10 +281,17 @@ class Body:
         dheading = None if heading is None else wrap(heading - h)
         if math.hypot(dx, dy) < STOP_DISTANCE and (dheading is None or abs(dheading) < STOP_TURN):
             return self._walk(percept, world, 0.0, 0.0, 0.0, set_name)
-        if sprint and set_name == "go_to_target" and sprints(dx, dy, self.sprint_within):
+        if sprint and set_name == "go_to_target" and sprints(dx, dy, self.sprint_within) and self._at_speed():
             set_name = "sprint"
         params = self.motion.walk.sets[set_name]
         return self._walk(percept, world, *walk_toward(dx, dy, dheading, params, brake=brake), set_name)
+
+    def _at_speed(self) -> bool:
+        """The walk steps forward at sprint_from of the go-to-target set's longest step."""
+        if self.sprint_from <= 0.0:
+            return True
+        walk = self.motion.walk
+        return float(walk.step[0]) >= self.sprint_from * walk.sets["go_to_target"].max_step_size_x
 
     def _stand(self, percept: Percept, world: WorldModel, heading: float | None) -> np.ndarray:
         x, y, _ = world.pose

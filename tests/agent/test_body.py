@@ -56,11 +56,11 @@ class _Walker(Player):
         return WalkTo(*self.goal)
 
 
-def _walked(sprint_within: float | None, seconds: float = 8.0) -> tuple[float, int]:
-    """m walked toward a target 6 m straight ahead in `seconds` by villa's type 4, and the falls."""
+def _walked(config: TeamConfig, robot_type: int = 4, seconds: float = 8.0) -> tuple[float, int]:
+    """m walked from a stand toward a target 6 m straight ahead in `seconds`, and the falls."""
     def factory(side, unum, robot_type, seed):
-        return _Walker(side, unum, robot_type, seed, TeamConfig(sprint_within=sprint_within))
-    m = Match(factory, PostureAgent, Lineup((4,), (0,)), half_time=300, seed=4)
+        return _Walker(side, unum, robot_type, seed, config)
+    m = Match(factory, PostureAgent, Lineup((robot_type,), (0,)), half_time=300, seed=4)
     for _ in range(60):
         m.step()
     place_player(m, 0, -6.0, 0.0, 0.0)
@@ -73,10 +73,20 @@ def _walked(sprint_within: float | None, seconds: float = 8.0) -> tuple[float, i
 
 
 def test_targets_straight_ahead_are_walked_to_with_the_sprint_set():
-    plain, plain_falls = _walked(None)
-    sprint, sprint_falls = _walked(15.0)
+    plain, plain_falls = _walked(TeamConfig(sprint_within=None))
+    sprint, sprint_falls = _walked(TeamConfig(sprint_within=15.0))
     assert plain_falls == sprint_falls == 0
     assert sprint > plain + 0.2, f"sprint set {sprint:.2f} m, go-to-target {plain:.2f} m in 8 s"
+
+
+def test_a_sprint_begun_at_speed_keeps_type_3_up():
+    """From a stand, type 3 sprinting at once falls (seed 4); sprinting once the walk is at
+    speed (villa:SprintAtSpeed) it walks farther than on its go-to-target set."""
+    plain, plain_falls = _walked(TeamConfig(sprint_within=None), robot_type=3)
+    _, sudden_falls = _walked(TeamConfig(sprint_from=0.0), robot_type=3)
+    at_speed, falls = _walked(variant("SprintAtSpeed"), robot_type=3)
+    assert plain_falls == falls == 0 and sudden_falls > 0
+    assert at_speed > plain + 0.4, f"sprint at speed {at_speed:.2f} m, go-to-target {plain:.2f} m in 8 s"
 
 
 def test_a_dribble_cone_touches_a_ball_beside_the_player_sooner():
