@@ -81,6 +81,8 @@ class Body:
         if turn_ramp < 0.0:
             raise ValueError(f"turn_ramp {turn_ramp}: must be >= 0 (turn input a second; 0: off)")
         self.turn_ramp = turn_ramp
+        if sprint_from < 0.0:
+            raise ValueError(f"sprint_from {sprint_from}: must be >= 0 (a fraction of the longest step)")
         self.dribble_set = dribble_set
         self.funnel = funnel
         self.sprint_within = None if sprint_within is None else math.radians(sprint_within)

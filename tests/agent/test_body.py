@@ -87,6 +87,8 @@ def test_a_sprint_begun_at_speed_keeps_type_3_up():
     at_speed, falls = _walked(variant("SprintAtSpeed"), robot_type=3)
     assert plain_falls == falls == 0 and sudden_falls > 0
     assert at_speed > plain + 0.4, f"sprint at speed {at_speed:.2f} m, go-to-target {plain:.2f} m in 8 s"
+    with pytest.raises(ValueError, match="sprint_from -0.5"):
+        Player("L", 2, 3, config=TeamConfig(sprint_from=-0.5))
 
 
 def test_a_dribble_cone_touches_a_ball_beside_the_player_sooner():
