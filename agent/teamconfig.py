@@ -173,7 +173,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # Sprinting once the walk steps forward at 0.8 of the go-to-target set's longest step, and
     # not type 1: from a stand, 8 s toward a target 6 m ahead, types 1 and 3 fell in 3 and 4
     # of 6 runs sprinting at once, in none of 8 so; in 40 positioning runs type 1 fell in 16
-    # sprinting (13 at speed), 7 not.
+    # sprinting (13 at speed), 7 not. Against villa -0.05 +- 0.10 over 42 full games (6:8),
+    # territory -0.3 +- 0.5 m, falls 42.9 against 46.9 a game (benchmarks/results/sprintatspeed-vs-villa/).
     "SprintAtSpeed": TeamConfig(sprint_from=0.8, sprint_types=(2, 3, 4)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
