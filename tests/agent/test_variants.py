@@ -206,9 +206,9 @@ def test_villa_walks_on_the_fast_sets_and_slowwalk_on_the_shipped_ones():
 
 
 def test_fast_sprint_walks_straight_ahead_on_sprint_sets_from_the_fast_stands(monkeypatch):
-    """villa:FastSprint keeps villa's go-to-target sets and sprints (types 1-4) on sets
-    learned from their stands; type 3's walks farther in 6 s straight ahead than its
-    go-to-target set, without falling."""
+    """villa:FastSprint (villa) keeps the go-to-target sets of the team before (NoSprint) and
+    sprints (types 1-4) on sets learned from their stands; type 3's walks farther in 6 s
+    straight ahead than its go-to-target set, without falling."""
     import benchmarks.walk as bw
     from agent.player import Player
     from agent.teamconfig import variant
@@ -217,8 +217,9 @@ def test_fast_sprint_walks_straight_ahead_on_sprint_sets_from_the_fast_stands(mo
     for t in range(5):
         body = Player("L", 2, t, config=variant("FastSprint")).body
         sets = body.motion.walk.sets
-        assert sets["go_to_target"] == Player("L", 2, t).body.motion.walk.sets["go_to_target"]
-        assert (body.sprint_within is None) == (t == 0)
+        before = Player("L", 2, t, config=variant("NoSprint")).body
+        assert sets["go_to_target"] == before.motion.walk.sets["go_to_target"]
+        assert (body.sprint_within is None) == (t == 0) and before.sprint_within is None
         if t > 0:  # learned from the go-to-target stand: within 4 mm of its height
             assert abs(sets["sprint"].walk_height - sets["go_to_target"].walk_height) < 0.004
     files = ["walk_fast_type3.txt", "walk_fast_sprint_type3.txt"]
