@@ -84,6 +84,7 @@ class TeamConfig:
 
 
 VILLA = TeamConfig()
+_NO_SPRINT = TeamConfig(sprint_within=None)  # villa before it sprinted
 
 
 def _shipped_walk(*walk_files: str) -> TeamConfig:
@@ -129,9 +130,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # games (10:0), territory +3.9 +- 0.5 m, falls 33.6 against 27.0 a game
     # (benchmarks/results/fastwalk-vs-villa-dec7/); types 2-4's against FastWalk01 +0.28 +- 0.09
     # (12:1), territory +2.1 +- 0.5 m, falls 38.0 against 34.2 (fastwalk234-vs-villa/).
-    # (FastWalk does not sprint: villa until midday December 7, 2026; NoSprint the same.)
-    "FastWalk": TeamConfig(sprint_within=None),
-    "NoSprint": TeamConfig(sprint_within=None),
+    # FastWalk does not sprint: villa until midday December 7, 2026, also named NoSprint.
+    "FastWalk": _NO_SPRINT,
+    "NoSprint": _NO_SPRINT,
     # only types 0 and 1 on the fast sets: villa that morning
     "FastWalk01": TeamConfig(file_types=(0, 1), sprint_within=None),
     "SlowWalk": _shipped_walk(),  # every type on its shipped walk sets and kicks: villa until then
