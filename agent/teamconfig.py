@@ -81,6 +81,9 @@ class TeamConfig:
     walk_files: tuple[str, ...] = FAST_WALK_FILES
     kick_files: tuple[str, ...] = FAST_KICK_FILES  # likewise, keyframe kick parameter files
     file_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # the robot types that load walk_files and kick_files
+    # The robot types the team plays, uniform numbers 1-11 (None: 0-4 in turn, the goalie type 0),
+    # within the league's rule (models.rules.robot_types_problem), as a league agent names its type.
+    robot_types: tuple[int, ...] | None = None
 
 
 VILLA = TeamConfig()

@@ -17,6 +17,11 @@ class VillaFactory:
         self.config = config
         self.name = name
 
+    @property
+    def robot_types(self) -> tuple[int, ...] | None:
+        """The robot types the team chooses (uniform numbers 1-11), or None for the default."""
+        return self.config.robot_types
+
     def __call__(self, side: str, unum: int, robot_type: int, seed: int = 0) -> Player:
         return Player(side, unum, robot_type, seed, self.config)
 

@@ -84,18 +84,19 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
     from optimization.executor import ExecutorFactory
     from server.batch import BatchError, BatchSettings, prepare, read_baseline, run_batch
+    from server.match import team_types
 
     settings = BatchSettings(args.home, args.away, args.half_time, args.seed, args.home_size,
                              args.away_size)
     try:
-        for spec in (args.home, args.away):
-            teams.factory(spec)  # a bad team fails here, not in every game
+        for spec, size in ((args.home, args.home_size), (args.away, args.away_size)):
+            team_types(teams.factory(spec), size, spec)  # a bad team fails here, not in every game
         check_writable(args.out, "--out", directory=True)
         prepare(settings, args.out, args.resume)
         baseline = read_baseline(args.against) if args.against is not None else None
         if args.save_baseline is not None:
             check_writable(args.save_baseline, "--save-baseline")
-    except (teams.UnknownTeam, OutputError, BatchError) as exc:
+    except (ValueError, OutputError, BatchError) as exc:  # UnknownTeam is a ValueError
         print(f"soccer batch: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     factory = ExecutorFactory(workers=args.workers, scheduler=args.scheduler)

@@ -87,10 +87,9 @@ def _plugins() -> list:
 
 
 def cmd_match(args: argparse.Namespace) -> int:
-    from models.scene import Lineup
     from server.files import write_json
     from server.log import write_log
-    from server.match import Match
+    from server.match import Match, lineup_for
 
     left = teams.factory(args.home)
     right = teams.factory(args.away)
@@ -102,7 +101,7 @@ def cmd_match(args: argparse.Namespace) -> int:
         from replay.gl import has_display
         if not has_display():
             raise UsageError("--view needs a display (DISPLAY is not set); use --log and soccer render")
-    lineup = Lineup.default(args.home_size, args.away_size)
+    lineup = lineup_for(left, right, args.home_size, args.away_size, (args.home, args.away))
     match = Match(left, right, lineup, half_time=args.half_time, seed=args.seed,
                   record=args.log is not None or args.view, team_names=(args.home, args.away))
     result = match.run(progress=not args.quiet).to_dict()

@@ -34,6 +34,11 @@ HEAR_DISTANCE = 50.0  # m
 HEAR_PERIOD = 2  # cycles: a player hears one message per team in that window
 
 TEAM_SIZE = 11
+# A full team's robot types (the 2014 rule, MacAlpine's dissertation 4.2.4): at least 3 types,
+# at most 7 robots of one type and at most 9 of any two types.
+MIN_ROBOT_TYPES = 3
+MAX_OF_ONE_TYPE = 7
+MAX_OF_TWO_TYPES = 9
 
 
 class Side(str, Enum):
@@ -86,3 +91,18 @@ def restart(kind: str, team: str) -> PlayMode:
     """The play mode of a restart kind ('kick_off', 'kick_in', 'corner_kick',
     'goal_kick', 'goal') for team 'L' or 'R'."""
     return PlayMode[f"{kind.upper()}_{Side(team).name}"]
+
+
+def robot_types_problem(types: tuple[int, ...] | list[int]) -> str | None:
+    """Why a team's robot types (index i: uniform number i + 1) break the league's rule, or
+    None. The rule binds a full team (TEAM_SIZE players); smaller sides may use any types."""
+    if len(types) < TEAM_SIZE:
+        return None
+    counts = sorted((list(types).count(t) for t in set(types)), reverse=True)
+    if len(counts) < MIN_ROBOT_TYPES:
+        return f"{len(counts)} robot types; a full team needs at least {MIN_ROBOT_TYPES}"
+    if counts[0] > MAX_OF_ONE_TYPE:
+        return f"{counts[0]} robots of one type; at most {MAX_OF_ONE_TYPE}"
+    if counts[0] + counts[1] > MAX_OF_TWO_TYPES:
+        return f"{counts[0] + counts[1]} robots of two types; at most {MAX_OF_TWO_TYPES}"
+    return None

@@ -22,6 +22,11 @@ FIRST_ROBOT_BIT = 3
 ALL_ROBOTS = sum(1 << (FIRST_ROBOT_BIT + i) for i in range(2 * TEAM_SIZE))
 
 
+def default_types(n: int) -> tuple[int, ...]:
+    """The robot types of a team of n that does not choose its own: 0-4 in turn."""
+    return tuple(i % 5 for i in range(n))
+
+
 @dataclass(frozen=True)
 class Lineup:
     """Robot types of each team, index i is uniform number i + 1.
@@ -45,9 +50,7 @@ class Lineup:
     @classmethod
     def default(cls, n_left: int = TEAM_SIZE, n_right: int = TEAM_SIZE) -> Lineup:
         """A legal heterogeneous line-up: types 0-4 in turn, goalie type 0."""
-        def team(n: int) -> tuple[int, ...]:
-            return tuple(i % 5 for i in range(n))
-        return cls(team(n_left), team(n_right))
+        return cls(default_types(n_left), default_types(n_right))
 
     def players(self) -> list[tuple[Side, int, int]]:
         """(side, uniform number, type) of every player, left team first."""

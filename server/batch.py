@@ -150,9 +150,8 @@ def _factory(resolve: Callable[[str], Callable], spec: str) -> Callable:
 def play_game(settings: BatchSettings, index: int, resolve: Callable[[str], Callable],
               log_dir: str | None = None) -> dict:
     """Play game `index` (in a worker) and return its row; a failure is an error row."""
-    from models.scene import Lineup
     from server.log import write_log
-    from server.match import Match
+    from server.match import Match, lineup_for
 
     side = settings.a_side(index)
     seed = settings.game_seed(index)
@@ -167,8 +166,8 @@ def play_game(settings: BatchSettings, index: int, resolve: Callable[[str], Call
         else:
             left, right, sizes = fb, fa, (settings.away_size, settings.home_size)
             names = (settings.away, settings.home)
-        match = Match(left, right, Lineup.default(*sizes), half_time=settings.half_time, seed=seed,
-                      record=log_dir is not None, team_names=names)
+        match = Match(left, right, lineup_for(left, right, *sizes, names), half_time=settings.half_time,
+                      seed=seed, record=log_dir is not None, team_names=names)
         result = match.run().to_dict()
         if log_dir is not None:
             path = Path(log_dir) / f"game_{index:05d}.npz"
@@ -200,6 +199,8 @@ def game_row(result: dict, a_side: str) -> dict:
         "events": dict(sorted(Counter(e["kind"] for e in result["events"]).items())),
         "crashes": crashes,
         "falls": {"A": stats[a_side]["falls"], "B": stats[b_side]["falls"]},
+        **({"types": {"A": result["lineup"][a_side], "B": result["lineup"][b_side]}}
+           if "lineup" in result else {}),
         "possession": {"A": stats[a_side]["possession_share"], "B": stats[b_side]["possession_share"]},
         "touches": {"A": stats[a_side]["ball_touches"], "B": stats[b_side]["ball_touches"]},
         # the ball's mean x in play toward B's goal (m); older results have none

@@ -24,11 +24,13 @@ from models.rules import (
     BEAM_NOISE_XY,
     HALF_TIME,
     PLAY_MODES,
+    TEAM_SIZE,
     VISION_PERIOD,
     PlayMode,
     Side,
+    robot_types_problem,
 )
-from models.scene import Lineup
+from models.scene import Lineup, default_types
 from server.hearing import Hearing, say_error
 from server.log import LogRecorder, MatchLog
 from server.referee import Referee
@@ -45,7 +47,8 @@ class Agent(Protocol):
 
 AgentFactory = Callable[[str, int, int, int], Agent]
 
-__all__ = ["Agent", "AgentFactory", "Match", "MatchResult", "PhysicsDiverged", "Timing"]
+__all__ = ["Agent", "AgentFactory", "Match", "MatchResult", "PhysicsDiverged", "Timing", "lineup_for",
+           "team_types"]
 
 
 def last_line(exc: BaseException) -> str:
@@ -94,6 +97,33 @@ class MatchResult:
         }
 
 
+def team_types(factory: AgentFactory, n: int, name: str = "team") -> tuple[int, ...]:
+    """Robot types of uniform numbers 1..n: those the team's factory chooses (its
+    `robot_types`, as a league agent names its type when it joins), else the default
+    (`models.scene.default_types`). ValueError, naming the team, for a bad choice or one
+    that breaks the league's rule for a full team (`models.rules.robot_types_problem`)."""
+    chosen = getattr(factory, "robot_types", None)
+    if chosen is None:
+        return default_types(n)
+    types = tuple(chosen)
+    if len(types) < n:
+        raise ValueError(f"team {name!r} chooses {len(types)} robot types for {n} players")
+    for t in types[:n]:
+        if isinstance(t, bool) or not isinstance(t, int) or t not in nao.TYPES:
+            raise ValueError(f"team {name!r} chooses robot type {t!r}; valid types are 0, 1, 2, 3, 4")
+    problem = robot_types_problem(types[:n])
+    if problem is not None:
+        raise ValueError(f"team {name!r} chooses robot types {list(types[:n])}: {problem}")
+    return types[:n]
+
+
+def lineup_for(left: AgentFactory, right: AgentFactory, n_left: int, n_right: int,
+               names: tuple[str, str] = ("left", "right")) -> Lineup:
+    """The line-up of two teams of n_left and n_right players, each with the robot types
+    it chooses (`team_types`)."""
+    return Lineup(team_types(left, n_left, names[0]), team_types(right, n_right, names[1]))
+
+
 class Match:
     """One match between two teams of agents."""
 
@@ -102,9 +132,13 @@ class Match:
                  team_names: tuple[str, str] = ("left", "right")) -> None:
         if half_time <= 0:
             raise ValueError(f"half time must be positive, got {half_time}")
-        self.lineup = lineup or Lineup.default()
+        self.lineup = lineup or lineup_for(left, right, TEAM_SIZE, TEAM_SIZE, team_names)
         if not self.lineup.left or not self.lineup.right:
             raise ValueError("a match needs 1 to 11 players a side")
+        for name, types in zip(team_names, (self.lineup.left, self.lineup.right)):
+            problem = robot_types_problem(types)
+            if problem is not None:
+                raise ValueError(f"team {name!r} plays robot types {list(types)}: {problem}")
         self.seed = seed
         self.half_time = half_time
         self.team_names = team_names

@@ -24,3 +24,17 @@ def broken_factory(side, unum, robot_type, seed):
 
 posture = PostureAgent
 not_callable = 42
+
+
+class _Typed:
+    """Posture agents of a team that chooses its robot types (uniform numbers 1-11)."""
+
+    def __init__(self, types: tuple[int, ...]) -> None:
+        self.robot_types = types
+
+    def __call__(self, side, unum, robot_type, seed):
+        return PostureAgent(side, unum, robot_type, seed)
+
+
+toes_first = _Typed((4, 4, 3, 0, 0, 0, 0, 0, 0, 2, 2))
+all_toes = _Typed((4,) * 11)  # one type: against the league's rule for a full team

@@ -63,6 +63,8 @@ def test_bad_input_one_line_exit_2(args, needle):
     (["batch", "--games", "2", "--workers", "-1", "--out", "x"], "workers must be"),
     (["batch", "--games", "2", "--home", "nobody", "--out", "x"], "unknown team 'nobody'"),
     (["batch", "--games", "2", "--away", "tests.batch_teams:missing", "--out", "x"], "has no 'missing'"),
+    (["batch", "--games", "2", "--home", "tests.batch_teams:all_toes", "--out", "x"], "1 robot types"),
+    (["match", "--away", "tests.batch_teams:all_toes", "--quiet"], "at least 3"),
     (["optimize", "sphere", "--sigma", "inf"], "finite number"),
     (["optimize", "sphere", "--population", "10000000"], "must be 1 to"),
 ])
