@@ -106,3 +106,16 @@ def robot_types_problem(types: tuple[int, ...] | list[int]) -> str | None:
     if counts[0] + counts[1] > MAX_OF_TWO_TYPES:
         return f"{counts[0] + counts[1]} robots of two types; at most {MAX_OF_TWO_TYPES}"
     return None
+
+
+def robot_type_join_problem(types: tuple[int, ...] | list[int], new: int) -> str | None:
+    """Why a team whose robots so far have `types` may not take one more of type `new` (the
+    league's server refuses such an agent as it joins): more than MAX_OF_ONE_TYPE of a type
+    or more than MAX_OF_TWO_TYPES of two (which leaves a full team MIN_ROBOT_TYPES types)."""
+    after = [*types, new]
+    counts = sorted((after.count(t) for t in set(after)), reverse=True)
+    if counts[0] > MAX_OF_ONE_TYPE:
+        return f"{counts[0]} robots of type {new}; at most {MAX_OF_ONE_TYPE}"
+    if len(counts) > 1 and counts[0] + counts[1] > MAX_OF_TWO_TYPES:
+        return f"{counts[0] + counts[1]} robots of two types; at most {MAX_OF_TWO_TYPES}"
+    return None

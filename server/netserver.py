@@ -36,7 +36,7 @@ import numpy as np
 
 from models import nao
 from models.messages import Action, Percept
-from models.rules import CYCLE, HALF_TIME, PlayMode, Side
+from models.rules import CYCLE, HALF_TIME, PlayMode, Side, robot_type_join_problem
 from models.scene import Lineup
 from server.connection import Connection
 from server.match import Match, MatchResult
@@ -259,6 +259,11 @@ class NetServer:
             unum = min(set(range(1, 12)) - taken, default=0)
         if unum == 0 or unum in taken:
             a.close(f"unum {unum or 'any'} of {team} is taken")
+            return
+        problem = robot_type_join_problem([b.robot_type for b in self._joined() if b.side == side],
+                                          a.robot_type)
+        if problem is not None:
+            a.close(f"{team} may not take a robot of type {a.robot_type}: {problem}")
             return
         a.team, a.unum, a.side = team, unum, side
         a.send(f"(time (now 0.00))(GS (unum {unum}) (team {'left' if side == 'L' else 'right'})"

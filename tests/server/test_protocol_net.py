@@ -190,6 +190,39 @@ def test_lobby_refuses_taken_numbers_and_a_third_team():
     srv.run(max_cycles=2)
 
 
+class _Joining:
+    """An agent in the lobby that said its scene (its robot type) and now says init."""
+
+    def __init__(self, robot_type):
+        self.robot_type, self.side, self.unum, self.team, self.closed = robot_type, None, None, None, ""
+        self.name = f"type {robot_type}"
+
+    def close(self, why):
+        self.closed = why
+
+    def send(self, text):
+        pass
+
+
+def test_lobby_holds_a_team_to_the_robot_type_rule():
+    srv = NetServer(port=0, players=11, seed=0, join_timeout=1)
+    try:
+        def join(t):
+            a = _Joining(t)
+            srv.lobby.append(a)
+            srv._init(a, 0, "A")
+            return a.closed
+        assert [join(4) for _ in range(7)] == [""] * 7
+        assert "8 robots of type 4; at most 7" in join(4)
+        assert [join(0), join(0)] == ["", ""]
+        assert "10 robots of two types; at most 9" in join(0)
+        assert join(1) == ""
+        assert [a.unum for a in srv._joined()] == list(range(1, 11))
+        assert join(3) == ""  # the 11th: three types
+    finally:
+        srv.listener.close()
+
+
 def test_bad_server_settings():
     with pytest.raises(ValueError, match="players"):
         NetServer(port=0, players=0)
