@@ -180,6 +180,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # sprinting (13 at speed), 7 not. Against villa -0.05 +- 0.10 over 42 full games (6:8),
     # territory -0.3 +- 0.5 m, falls 42.9 against 46.9 a game (benchmarks/results/sprintatspeed-vs-villa/).
     "SprintAtSpeed": TeamConfig(sprint_from=0.8, sprint_types=(2, 3, 4)),
+    # Seven robots of type 0 (the goalie and uniform numbers 2-7: the on-ball, supporting,
+    # forward and middle roles at the kickoff), type 2 at the backs and type 3 on the wings
+    # (issue 47; MacAlpine's dissertation 4.2.4: UT Austin Villa played seven of its best type).
+    "MostlyType0": TeamConfig(robot_types=(0, 0, 0, 0, 0, 0, 0, 2, 2, 3, 3)),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),
