@@ -25,8 +25,7 @@ import numpy as np
 from benchmarks.machine import machine
 from cli.teams import UnknownTeam, factory
 from models.rules import CYCLE, PlayMode
-from models.scene import Lineup
-from server.match import Match
+from server.match import Match, lineup_for
 
 
 class _Recording:
@@ -48,8 +47,10 @@ def _hash_action(h, action) -> None:
 def record(home: str, away: str, seconds: float, seed: int) -> tuple[list, list[list], int, str]:
     """(agent arguments, percepts per agent per cycle, the kickoff's cycle, the actions'
     hash): the beams and settling before the kickoff, then `seconds` of play."""
-    teams = {"L": _Recording(factory(home)), "R": _Recording(factory(away))}
-    m = Match(teams["L"], teams["R"], Lineup.default(), half_time=300, seed=seed, team_names=(home, away))
+    chosen = {"L": factory(home), "R": factory(away)}
+    teams = {s: _Recording(f) for s, f in chosen.items()}
+    m = Match(teams["L"], teams["R"], lineup_for(chosen["L"], chosen["R"], 11, 11), half_time=300, seed=seed,
+              team_names=(home, away))
     made = {(a[0], a[1]): a for t in teams.values() for a in t.made}
     args = [made[p.side, p.unum] for p in m.world.players]
     percepts: list[list] = [[] for _ in m.agents]

@@ -15,12 +15,12 @@ import hashlib
 import json
 
 from cli.teams import factory
-from models.scene import Lineup
-from server.match import Match
+from server.match import Match, lineup_for
 
 
 def run(home: str, away: str, seconds: float, seed: int, n: int = 3) -> dict:
-    m = Match(factory(home), factory(away), Lineup.default(n, n), half_time=30, seed=seed)
+    left, right = factory(home), factory(away)
+    m = Match(left, right, lineup_for(left, right, n, n), half_time=30, seed=seed)
     ctrl_hash = hashlib.sha256()
     step = m.world.step
 

@@ -51,8 +51,7 @@ import numpy as np
 from benchmarks.machine import machine
 from cli.teams import UnknownTeam, factory
 from models.rules import CYCLE, PlayMode
-from models.scene import Lineup
-from server.match import Match
+from server.match import Match, lineup_for
 from server.world import World
 
 LOOKBACK = 0.6  # s before the referee counts a fall whose activity is reported
@@ -208,7 +207,7 @@ def main(argv: list[str] | None = None) -> int:
         teams = {"L": factory(args.home), "R": factory(args.away)}
     except UnknownTeam as e:
         ap.error(str(e))
-    lineup = Lineup.default()
+    lineup = lineup_for(teams["L"], teams["R"], 11, 11, (args.home, args.away))
     rows = []
     for g in range(args.games):
         m = Match(teams["L"], teams["R"], lineup, half_time=300, seed=args.seed + g,

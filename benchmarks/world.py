@@ -84,8 +84,7 @@ import numpy as np
 from benchmarks.machine import machine
 from cli.teams import UnknownTeam, factory
 from models.rules import VISION_PERIOD, PlayMode
-from models.scene import Lineup
-from server.match import Match
+from server.match import Match, lineup_for
 
 
 def main() -> None:
@@ -109,7 +108,7 @@ def main() -> None:
         teams = {"L": factory(args.home), "R": factory(args.away)}
     except UnknownTeam as e:
         ap.error(str(e))
-    m = Match(teams["L"], teams["R"], Lineup.default(args.players, args.players),
+    m = Match(teams["L"], teams["R"], lineup_for(teams["L"], teams["R"], args.players, args.players),
               half_time=10 * args.seconds * args.repeats, seed=args.seed,
               team_names=(args.home, args.away))
     clock = TeamClock(m, time.thread_time if args.clock == "cpu" else time.perf_counter)
