@@ -109,8 +109,9 @@ def team_types(factory: AgentFactory, n: int, name: str = "team") -> tuple[int, 
     if len(types) < n:
         raise ValueError(f"team {name!r} chooses {len(types)} robot types for {n} players")
     for t in types[:n]:
-        if isinstance(t, bool) or not isinstance(t, int) or t not in nao.TYPES:
+        if isinstance(t, bool) or not isinstance(t, (int, np.integer)) or t not in nao.TYPES:
             raise ValueError(f"team {name!r} chooses robot type {t!r}; valid types are 0, 1, 2, 3, 4")
+    types = tuple(int(t) for t in types)
     problem = robot_types_problem(types[:n])
     if problem is not None:
         raise ValueError(f"team {name!r} chooses robot types {list(types[:n])}: {problem}")

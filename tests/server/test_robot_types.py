@@ -1,6 +1,7 @@
 """A team chooses its robot types (as a league agent names its type when it joins): the
 match and the batch play them, and refuse a full team that breaks the league's rule."""
 
+import numpy as np
 import pytest
 
 from agent.posture import PostureAgent
@@ -26,6 +27,8 @@ def test_a_match_plays_the_types_each_team_chooses():
 
 def test_a_smaller_side_takes_its_first_uniform_numbers():
     assert lineup_for(toes_first, PostureAgent, 3, 2) == Lineup((4, 4, 3), (0, 1))
+    numpy_types = VillaFactory(TeamConfig(robot_types=tuple(np.array(CHOSEN))))
+    assert team_types(numpy_types, 11) == CHOSEN and all(type(t) is int for t in team_types(numpy_types, 11))
 
 
 @pytest.mark.parametrize("types, words", [
