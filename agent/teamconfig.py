@@ -14,6 +14,10 @@ from dataclasses import dataclass
 # and the keyframe kicks' settings for that stand (kick_fast_type*.params, type 0).
 FAST_WALK_FILES = ("walk_fast_type{type}.txt", "walk_fast_sprint_type{type}.txt")
 FAST_KICK_FILES = ("kick_fast_type{type}.params",)
+# Seven robots of type 0 (the goalie and uniform numbers 2-7: the on-ball, supporting, forward
+# and middle roles at the kickoff), type 2 at the backs and type 3 on the wings (MacAlpine's
+# dissertation 4.2.4: UT Austin Villa played seven of its best type).
+MOSTLY_TYPE_0 = (0, 0, 0, 0, 0, 0, 0, 2, 2, 3, 3)
 
 
 @dataclass(frozen=True)
@@ -83,17 +87,20 @@ class TeamConfig:
     file_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # the robot types that load walk_files and kick_files
     # The robot types the team plays, uniform numbers 1-11 (None: 0-4 in turn, the goalie type 0),
     # within the league's rule (models.rules.robot_types_problem), as a league agent names its type.
-    robot_types: tuple[int, ...] | None = None
+    # Seven of type 0 (the goalie and numbers 2-7), type 2 at the backs, type 3 on the wings:
+    # villa:MostlyType0 beat villa with types 0-4 in turn (villa:InTurn) by +0.23 +- 0.09 over
+    # 40 full games (8 wins, 31 draws, 1 loss; 13:4) (benchmarks/results/mostlytype0-vs-villa/).
+    robot_types: tuple[int, ...] | None = MOSTLY_TYPE_0
 
 
 VILLA = TeamConfig()
-_NO_SPRINT = TeamConfig(sprint_within=None)  # villa before it sprinted
+_NO_SPRINT = TeamConfig(sprint_within=None, robot_types=None)  # villa before it sprinted
 
 
 def _shipped_walk(*walk_files: str) -> TeamConfig:
     """The team on the shipped walk sets and kicks with `walk_files` after them, not
-    sprinting: the walk variants measured before the fast sets shipped."""
-    return TeamConfig(walk_files=walk_files, kick_files=(), sprint_within=None)
+    sprinting, types 0-4 in turn: the walk variants measured before the fast sets shipped."""
+    return TeamConfig(walk_files=walk_files, kick_files=(), sprint_within=None, robot_types=None)
 
 
 # "Positioning to Win" section 6's variants of the base team (Table 2), and a few more.
@@ -180,10 +187,12 @@ VARIANTS: dict[str, TeamConfig] = {
     # sprinting (13 at speed), 7 not. Against villa -0.05 +- 0.10 over 42 full games (6:8),
     # territory -0.3 +- 0.5 m, falls 42.9 against 46.9 a game (benchmarks/results/sprintatspeed-vs-villa/).
     "SprintAtSpeed": TeamConfig(sprint_from=0.8, sprint_types=(2, 3, 4)),
-    # Seven robots of type 0 (the goalie and uniform numbers 2-7: the on-ball, supporting,
-    # forward and middle roles at the kickoff), type 2 at the backs and type 3 on the wings
-    # (issue 47; MacAlpine's dissertation 4.2.4: UT Austin Villa played seven of its best type).
-    "MostlyType0": TeamConfig(robot_types=(0, 0, 0, 0, 0, 0, 0, 2, 2, 3, 3)),
+    # Seven robots of type 0, type 2 at the backs and type 3 on the wings (MOSTLY_TYPE_0): against
+    # villa with types 0-4 in turn +0.23 +- 0.09 over 40 full games (8 wins, 31 draws, 1 loss; 13:4)
+    # (benchmarks/results/mostlytype0-vs-villa/). villa itself since December 7, 2026 (afternoon);
+    # the team before is InTurn.
+    "MostlyType0": TeamConfig(),
+    "InTurn": TeamConfig(robot_types=None),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),
@@ -278,5 +287,5 @@ def variant(name: str) -> TeamConfig:
     return VARIANTS[variant_name(name)]
 
 
-__all__ = ["FAST_KICK_FILES", "FAST_WALK_FILES", "PAPER_TABLE2", "VARIANTS", "VILLA", "TeamConfig",
-           "UnknownVariant", "variant", "variant_name"]
+__all__ = ["FAST_KICK_FILES", "FAST_WALK_FILES", "MOSTLY_TYPE_0", "PAPER_TABLE2", "VARIANTS", "VILLA",
+           "TeamConfig", "UnknownVariant", "variant", "variant_name"]

@@ -59,3 +59,10 @@ def test_batch_rows_record_each_teams_types(tmp_path):
     for r in rows:
         assert "error" not in r, r
         assert r["types"] == {"A": [4, 4], "B": [0, 1, 2]}
+
+
+def test_villa_plays_mostly_type_0_and_in_turn_is_the_team_before():
+    from agent.teamconfig import MOSTLY_TYPE_0
+    in_turn = Lineup.default().right
+    assert lineup_for(resolve("villa"), resolve("villa:InTurn"), 11, 11) == Lineup(MOSTLY_TYPE_0, in_turn)
+    assert team_types(resolve("villa:NoSprint"), 11) == Lineup.default().left  # earlier teams as they were
