@@ -87,9 +87,8 @@ class TeamConfig:
     file_types: tuple[int, ...] = (0, 1, 2, 3, 4)  # the robot types that load walk_files and kick_files
     # The robot types the team plays, uniform numbers 1-11 (None: 0-4 in turn, the goalie type 0),
     # within the league's rule (models.rules.robot_types_problem), as a league agent names its type.
-    # Seven of type 0 (the goalie and numbers 2-7), type 2 at the backs, type 3 on the wings:
-    # villa:MostlyType0 beat villa with types 0-4 in turn (villa:InTurn) by +0.23 +- 0.09 over
-    # 40 full games (8 wins, 31 draws, 1 loss; 13:4) (benchmarks/results/mostlytype0-vs-villa/).
+    # MOSTLY_TYPE_0 beat types 0-4 in turn (villa:InTurn) by +0.23 +- 0.09 goals over 40 full
+    # games, 8 wins, 31 draws, 1 loss (benchmarks/results/mostlytype0-vs-villa/).
     robot_types: tuple[int, ...] | None = MOSTLY_TYPE_0
 
 
@@ -187,10 +186,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # sprinting (13 at speed), 7 not. Against villa -0.05 +- 0.10 over 42 full games (6:8),
     # territory -0.3 +- 0.5 m, falls 42.9 against 46.9 a game (benchmarks/results/sprintatspeed-vs-villa/).
     "SprintAtSpeed": TeamConfig(sprint_from=0.8, sprint_types=(2, 3, 4)),
-    # Seven robots of type 0, type 2 at the backs and type 3 on the wings (MOSTLY_TYPE_0): against
-    # villa with types 0-4 in turn +0.23 +- 0.09 over 40 full games (8 wins, 31 draws, 1 loss; 13:4)
-    # (benchmarks/results/mostlytype0-vs-villa/). villa itself since December 7, 2026 (afternoon);
-    # the team before is InTurn.
+    # Seven robots of type 0, type 2 at the backs and type 3 on the wings (MOSTLY_TYPE_0): villa
+    # itself since December 7, 2026 (afternoon); the team before, types 0-4 in turn, is InTurn.
     "MostlyType0": TeamConfig(),
     "InTurn": TeamConfig(robot_types=None),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes

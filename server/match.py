@@ -105,17 +105,17 @@ def team_types(factory: AgentFactory, n: int, name: str = "team") -> tuple[int, 
     chosen = getattr(factory, "robot_types", None)
     if chosen is None:
         return default_types(n)
-    types = tuple(chosen)
-    if len(types) < n:
-        raise ValueError(f"team {name!r} chooses {len(types)} robot types for {n} players")
-    for t in types[:n]:
+    chosen = tuple(chosen)
+    if len(chosen) < n:
+        raise ValueError(f"team {name!r} chooses {len(chosen)} robot types for {n} players")
+    for t in chosen[:n]:
         if isinstance(t, bool) or not isinstance(t, (int, np.integer)) or t not in nao.TYPES:
             raise ValueError(f"team {name!r} chooses robot type {t!r}; valid types are 0, 1, 2, 3, 4")
-    types = tuple(int(t) for t in types)
-    problem = robot_types_problem(types[:n])
+    types = tuple(int(t) for t in chosen[:n])
+    problem = robot_types_problem(types)
     if problem is not None:
-        raise ValueError(f"team {name!r} chooses robot types {list(types[:n])}: {problem}")
-    return types[:n]
+        raise ValueError(f"team {name!r} chooses robot types {list(types)}: {problem}")
+    return types
 
 
 def lineup_for(left: AgentFactory, right: AgentFactory, n_left: int, n_right: int,
