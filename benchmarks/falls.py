@@ -49,7 +49,7 @@ from collections import Counter, deque
 import numpy as np
 
 from benchmarks.machine import machine
-from cli.teams import UnknownTeam, factory
+from cli.teams import factory
 from models.rules import CYCLE, PlayMode
 from server.match import Match, lineup_for
 from server.world import World
@@ -205,9 +205,9 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--seconds must be in (0, 300] and --games >= 1 (got {args.seconds}, {args.games})")
     try:
         teams = {"L": factory(args.home), "R": factory(args.away)}
-    except UnknownTeam as e:
+        lineup = lineup_for(teams["L"], teams["R"], 11, 11, (args.home, args.away))
+    except ValueError as e:  # an unknown team (UnknownTeam) or robot types against the rule
         ap.error(str(e))
-    lineup = lineup_for(teams["L"], teams["R"], 11, 11, (args.home, args.away))
     rows = []
     for g in range(args.games):
         m = Match(teams["L"], teams["R"], lineup, half_time=300, seed=args.seed + g,

@@ -82,7 +82,7 @@ import time
 import numpy as np
 
 from benchmarks.machine import machine
-from cli.teams import UnknownTeam, factory
+from cli.teams import factory
 from models.rules import VISION_PERIOD, PlayMode
 from server.match import Match, lineup_for
 
@@ -106,9 +106,10 @@ def main() -> None:
         ap.error(f"--players must be 1 to 11 (got {args.players})")
     try:
         teams = {"L": factory(args.home), "R": factory(args.away)}
-    except UnknownTeam as e:
+        lineup = lineup_for(teams["L"], teams["R"], args.players, args.players, (args.home, args.away))
+    except ValueError as e:  # an unknown team (UnknownTeam) or robot types against the rule
         ap.error(str(e))
-    m = Match(teams["L"], teams["R"], lineup_for(teams["L"], teams["R"], args.players, args.players),
+    m = Match(teams["L"], teams["R"], lineup,
               half_time=10 * args.seconds * args.repeats, seed=args.seed,
               team_names=(args.home, args.away))
     clock = TeamClock(m, time.thread_time if args.clock == "cpu" else time.perf_counter)
