@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections import Counter
 from enum import Enum
 
 CYCLE = 0.02  # s, one agent cycle
@@ -93,12 +94,17 @@ def restart(kind: str, team: str) -> PlayMode:
     return PlayMode[f"{kind.upper()}_{Side(team).name}"]
 
 
+def _type_counts(types: tuple[int, ...] | list[int]) -> list[int]:
+    """Robots of each type among `types`, most first."""
+    return sorted(Counter(types).values(), reverse=True)
+
+
 def robot_types_problem(types: tuple[int, ...] | list[int]) -> str | None:
     """Why a team's robot types (index i: uniform number i + 1) break the league's rule, or
     None. The rule binds a full team (TEAM_SIZE players); smaller sides may use any types."""
     if len(types) < TEAM_SIZE:
         return None
-    counts = sorted((list(types).count(t) for t in set(types)), reverse=True)
+    counts = _type_counts(types)
     if len(counts) < MIN_ROBOT_TYPES:
         return f"{len(counts)} robot types; a full team needs at least {MIN_ROBOT_TYPES}"
     if counts[0] > MAX_OF_ONE_TYPE:
@@ -112,8 +118,7 @@ def robot_type_join_problem(types: tuple[int, ...] | list[int], new: int) -> str
     """Why a team whose robots so far have `types` may not take one more of type `new` (the
     league's server refuses such an agent as it joins): more than MAX_OF_ONE_TYPE of a type
     or more than MAX_OF_TWO_TYPES of two (which leaves a full team MIN_ROBOT_TYPES types)."""
-    after = [*types, new]
-    counts = sorted((after.count(t) for t in set(after)), reverse=True)
+    counts = _type_counts([*types, new])
     if counts[0] > MAX_OF_ONE_TYPE:
         return f"{counts[0]} robots of type {new}; at most {MAX_OF_ONE_TYPE}"
     if len(counts) > 1 and counts[0] + counts[1] > MAX_OF_TWO_TYPES:

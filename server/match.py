@@ -133,13 +133,16 @@ class Match:
                  team_names: tuple[str, str] = ("left", "right")) -> None:
         if half_time <= 0:
             raise ValueError(f"half time must be positive, got {half_time}")
-        self.lineup = lineup or lineup_for(left, right, TEAM_SIZE, TEAM_SIZE, team_names)
+        if lineup is None:  # each team's own choice, held to the rule by team_types
+            lineup = lineup_for(left, right, TEAM_SIZE, TEAM_SIZE, team_names)
+        else:
+            for name, types in zip(team_names, (lineup.left, lineup.right)):
+                problem = robot_types_problem(types)
+                if problem is not None:
+                    raise ValueError(f"team {name!r} plays robot types {list(types)}: {problem}")
+        self.lineup = lineup
         if not self.lineup.left or not self.lineup.right:
             raise ValueError("a match needs 1 to 11 players a side")
-        for name, types in zip(team_names, (self.lineup.left, self.lineup.right)):
-            problem = robot_types_problem(types)
-            if problem is not None:
-                raise ValueError(f"team {name!r} plays robot types {list(types)}: {problem}")
         self.seed = seed
         self.half_time = half_time
         self.team_names = team_names
