@@ -190,7 +190,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # itself since December 7, 2026 (afternoon); the team before, types 0-4 in turn, is InTurn.
     "MostlyType0": TeamConfig(),
     # Type 0's go-to-target set learned on for a fourth stage (issue 47;
-    # skills/data/walk_steady_type0.txt): on its training task runs with a fall 43 -> 17 of 64.
+    # skills/data/walk_steady_type0.txt): on its training task runs with a fall 43 -> 17 of 64,
+    # but against villa +0.05 +- 0.09 over 40 full games (7:5), territory -1.0 +- 0.4 m, falls
+    # 45.8 against 43.1 a game (benchmarks/results/steady0-vs-villa/).
     "Steady0": TeamConfig(walk_files=(*FAST_WALK_FILES, "walk_steady_type{type}.txt")),
     "InTurn": TeamConfig(robot_types=None),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
