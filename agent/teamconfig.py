@@ -189,12 +189,12 @@ VARIANTS: dict[str, TeamConfig] = {
     # Seven robots of type 0, type 2 at the backs and type 3 on the wings (MOSTLY_TYPE_0): villa
     # itself since December 7, 2026 (afternoon); the team before, types 0-4 in turn, is InTurn.
     "MostlyType0": TeamConfig(),
+    "InTurn": TeamConfig(robot_types=None),
     # Type 0's go-to-target set learned on for a fourth stage (issue 47;
     # skills/data/walk_steady_type0.txt): on its training task runs with a fall 43 -> 17 of 64,
     # but against villa +0.05 +- 0.09 over 40 full games (7:5), territory -1.0 +- 0.4 m, falls
     # 45.8 against 43.1 a game (benchmarks/results/steady0-vs-villa/).
     "Steady0": TeamConfig(walk_files=(*FAST_WALK_FILES, "walk_steady_type{type}.txt")),
-    "InTurn": TeamConfig(robot_types=None),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
     "DribbleCone": TeamConfig(dribble_cone=math.radians(60.0), dribble_funnel=False),
