@@ -193,7 +193,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # Type 0's go-to-target set learned on for a fourth stage (issue 47;
     # skills/data/walk_steady_type0.txt): on its training task runs with a fall 43 -> 17 of 64,
     # but against villa +0.05 +- 0.09 over 40 full games (7:5), territory -1.0 +- 0.4 m, falls
-    # 45.8 against 43.1 a game (benchmarks/results/steady0-vs-villa/).
+    # 45.8 against 43.1 a game (benchmarks/results/steady0-vs-villa/); 4 vs 4 -0.15 +- 0.06 over 40
+    # (screen-4v4/steady0/).
     "Steady0": TeamConfig(walk_files=(*FAST_WALK_FILES, "walk_steady_type{type}.txt")),
     # In play the dribble turns up to 60 deg from the goal toward the side the player comes
     # from, so that it need not go round the ball (issue 47: a quicker first touch): NoFunnel.
