@@ -288,17 +288,23 @@ class Player:
         return Dribble(tuple(target))
 
     def _kickoff(self, view: st.TeamView) -> SkillRequest:
-        """Our kickoff: a short pass to the side the fewest opponents guard (D.2.3)."""
+        """Our kickoff: a short pass to the side the fewest opponents guard (D.2.3), or with
+        `TeamConfig.kickoff` "deep" the longest kick deep toward their goal (`deep_kick_target`)."""
         if self._kick is not None:
             return self._kick[2]
         ball = view.ball
-        best, best_gap = None, -math.inf
-        for sign in (1.0, -1.0):
-            t = ball + 3.0 * np.array([math.cos(KICKOFF_ANGLE), sign * math.sin(KICKOFF_ANGLE)])
-            gap = float(np.min(np.hypot(*(view.opponents - t).T))) if len(view.opponents) else math.inf
-            if gap > best_gap:
-                best, best_gap = t, gap
-        names = tuple(n for n in KICKOFF_KICKS if n in self.body.kicks)
+        if self.config.kickoff == "deep":
+            reach = max(k.spec.distance for k in self.body.kicks.values())
+            names = tuple(n for n, k in self.body.kicks.items() if k.spec.distance > reach - 0.5)
+            best = st.deep_kick_target(ball, view.opponents, reach)
+        else:
+            names = tuple(n for n in KICKOFF_KICKS if n in self.body.kicks)
+            best, best_gap = None, -math.inf
+            for sign in (1.0, -1.0):
+                t = ball + 3.0 * np.array([math.cos(KICKOFF_ANGLE), sign * math.sin(KICKOFF_ANGLE)])
+                gap = float(np.min(np.hypot(*(view.opponents - t).T))) if len(view.opponents) else math.inf
+                if gap > best_gap:
+                    best, best_gap = t, gap
         req = Kick((float(best[0]), float(best[1])), names or tuple(self.body.kicks))
         self._kick = (view.time, ball.copy(), req)
         return req
@@ -384,7 +390,8 @@ class Player:
         on the center spot, in our half; the on-ball role behind the ball at ours."""
         if self.unum == st.GOALIE:
             return st.GOALIE_LINE, 0.0, 0.0
-        x, y = st.kickoff_positions(self.formation, our_kickoff)[(self.unum - 2) % len(st.FIELD_ROLES)]
+        taker = st.KICKOFF_TAKER_BACK if self.config.kickoff == "deep" else st.KICKOFF_TAKER
+        x, y = st.kickoff_positions(self.formation, our_kickoff, taker)[(self.unum - 2) % len(st.FIELD_ROLES)]
         return float(x), float(y), math.atan2(-y, -x)  # facing the center spot
 
     def _listen(self, now: float) -> None:

@@ -39,6 +39,10 @@ FACE_BALL_WITHIN = 0.5  # m from a position: face the ball instead of the positi
 KEEP_AWAY = FREE_KICK_DISTANCE + 0.8  # m from the ball at the opponents' restarts
 GOALIE_LINE = -fld.HALF_LENGTH + 0.5  # m: the goalie's line in front of its goal (D.3.1)
 KICKOFF_TAKER = np.array([-0.17, 0.0])  # m: where the on-ball role stands at our kickoff
+# m: where it stands for a kick it must walk up to (at KICKOFF_TAKER its first step nudges the ball)
+KICKOFF_TAKER_BACK = np.array([-0.35, 0.0])
+DEEP_KICK_AIMS = np.arange(-4.0, 4.5, 0.5)  # m: goal-line y a deep kick may aim at, ...
+DEEP_KICK_CLEAR = 1.0  # m: ... its path this far from every opponent
 KICKOFF_SPACING = 1.0  # m: least distance between two field players' kickoff positions
 OPPONENT_RADIUS_SQ = 25.0  # m^2: eq. D.1's opponent penalty reach
 MIN_SHOT_ANGLE = math.radians(8.0)  # rad: the goal mouth must look at least this wide to shoot
@@ -341,15 +345,16 @@ def own_half(target: np.ndarray) -> np.ndarray:
     return p
 
 
-def kickoff_positions(formation: Formation, our_kickoff: bool) -> np.ndarray:
+def kickoff_positions(formation: Formation, our_kickoff: bool,
+                      taker: np.ndarray = KICKOFF_TAKER) -> np.ndarray:
     """(10, 2) kickoff positions of FIELD_ROLES (team frame, m): the formation for the ball
     on the center spot, kept in our half and out of the center circle, the on-ball role
-    just behind the ball at our kickoff. A role that lands within KICKOFF_SPACING of an
+    at `taker` behind the ball at our kickoff. A role that lands within KICKOFF_SPACING of an
     earlier one stands that much farther back (at their kickoff the on-ball role and the
     supporter were both pushed out of the circle to one spot, and fell over each other)."""
     out: list[np.ndarray] = []
     for i, p in enumerate(role_positions(formation, np.zeros(2))):
-        q = KICKOFF_TAKER.copy() if i == 0 and our_kickoff else own_half(p)
+        q = np.array(taker, dtype=float) if i == 0 and our_kickoff else own_half(p)
         while any(math.hypot(*(q - o)) < KICKOFF_SPACING for o in out):
             q[0] -= KICKOFF_SPACING
         out.append(q)
@@ -375,6 +380,22 @@ def shot_target(ball: np.ndarray, opponents: np.ndarray, reach: float) -> np.nda
         gap = _clearance(ball, t, opponents)
         if gap > best_gap:
             best, best_gap = t, gap
+    return best
+
+
+def deep_kick_target(ball: np.ndarray, opponents: np.ndarray, reach: float,
+                     clear: float = DEEP_KICK_CLEAR) -> np.ndarray:
+    """Where a kick reaching `reach` (m) from `ball` should aim to go deep: a point on
+    their goal line 0-4 m from its center, the nearest to the center whose path to the
+    landing passes `clear` m from every opponent (else the clearest); team frame, m."""
+    best, best_key = None, (-math.inf, 0.0)
+    for y in DEEP_KICK_AIMS:
+        aim = np.array([fld.HALF_LENGTH, y])
+        d = aim - ball
+        landing = ball + min(reach, float(np.hypot(*d))) * d / max(float(np.hypot(*d)), 1e-9)
+        key = (min(_clearance(ball, landing, opponents), clear), -abs(y))
+        if key > best_key:
+            best, best_key = aim, key
     return best
 
 
@@ -552,8 +573,8 @@ def dive_for(ball: np.ndarray | None, velocity: np.ndarray, me: Sequence[float],
 
 __all__ = [
     "FIELD_ROLES", "FIELD_UNUMS", "GOALIE", "Mate", "TeamView", "approach_target", "assign_roles", "avoid",
-    "closeness", "detour", "dive_for", "dribble_target", "facing", "goalie_position", "keep_away",
-    "kick_score", "kick_scores", "kickoff_positions", "on_ball_player", "opponent_may_reach_first",
-    "opponent_near_ball", "own_half", "pass_target", "path_obstacles", "role_obstacles", "role_positions",
-    "shot_target", "walking_cost", "walking_costs",
+    "closeness", "deep_kick_target", "detour", "dive_for", "dribble_target", "facing", "goalie_position",
+    "keep_away", "kick_score", "kick_scores", "kickoff_positions", "on_ball_player",
+    "opponent_may_reach_first", "opponent_near_ball", "own_half", "pass_target", "path_obstacles",
+    "role_obstacles", "role_positions", "shot_target", "walking_cost", "walking_costs",
 ]

@@ -18,6 +18,7 @@ FAST_KICK_FILES = ("kick_fast_type{type}.params",)
 # and middle roles at the kickoff), type 2 at the backs and type 3 on the wings (MacAlpine's
 # dissertation 4.2.4: UT Austin Villa played seven of its best type).
 MOSTLY_TYPE_0 = (0, 0, 0, 0, 0, 0, 0, 2, 2, 3, 3)
+KICKOFFS = ("pass", "deep")  # TeamConfig.kickoff
 
 
 @dataclass(frozen=True)
@@ -64,6 +65,10 @@ class TeamConfig:
     passes: bool = True  # may pass in play (else a free player dribbles unless a shot is open)
     marking: bool = True  # mark attackers when the opponents have the ball
     kick_anticipation: bool = True  # run to where a teammate's kick will land
+    # Our kickoff: "pass", a short pass to the side (D.2.3); "deep", the robot's longest kick
+    # toward their goal past the opponents (strategy.deep_kick_target), from KICKOFF_TAKER_BACK
+    # (dissertation 4.2.2: UT Austin Villa's kickoff when it did not try to score).
+    kickoff: str = "pass"
     kick_box: float = 1.0  # the kicks' stopping boxes scaled by this (wider: quicker, less exact)
     formation_shift: float = 0.0  # m added to every formation x (+: offensive, -: defensive)
     nearest_stopper: bool = False  # the supporter role goes to the nearest field player first (PtW 6)
@@ -90,6 +95,10 @@ class TeamConfig:
     # MOSTLY_TYPE_0 beat types 0-4 in turn (villa:InTurn) by +0.23 +- 0.09 goals over 40 full
     # games, 8 wins, 31 draws, 1 loss (benchmarks/results/mostlytype0-vs-villa/).
     robot_types: tuple[int, ...] | None = MOSTLY_TYPE_0
+
+    def __post_init__(self) -> None:
+        if self.kickoff not in KICKOFFS:
+            raise ValueError(f"TeamConfig.kickoff {self.kickoff!r}: one of {', '.join(KICKOFFS)}")
 
 
 VILLA = TeamConfig()
@@ -259,6 +268,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # villa since December 6, 2026 (night); the team before is NoFinish.
     "Finish": TeamConfig(dribble_finish=True),
     "NoFinish": TeamConfig(dribble_finish=False),
+    # The kickoff a long kick deep toward their goal (TeamConfig.kickoff "deep").
+    "DeepKickoff": TeamConfig(kickoff="deep"),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and
