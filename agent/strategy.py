@@ -41,7 +41,7 @@ GOALIE_LINE = -fld.HALF_LENGTH + 0.5  # m: the goalie's line in front of its goa
 KICKOFF_TAKER = np.array([-0.17, 0.0])  # m: where the on-ball role stands at our kickoff
 # m: where it stands for a kick it must walk up to (at KICKOFF_TAKER its first step nudges the ball)
 KICKOFF_TAKER_BACK = np.array([-0.35, 0.0])
-DEEP_KICK_AIMS = np.arange(-4.0, 4.5, 0.5)  # m: goal-line y a deep kick may aim at, ...
+DEEP_KICK_AIMS = np.arange(-6.0, 6.5, 0.5)  # m: goal-line y a deep kick may aim at, ...
 DEEP_KICK_CLEAR = 1.0  # m: ... its path this far from every opponent
 KICKOFF_SPACING = 1.0  # m: least distance between two field players' kickoff positions
 OPPONENT_RADIUS_SQ = 25.0  # m^2: eq. D.1's opponent penalty reach
@@ -386,7 +386,7 @@ def shot_target(ball: np.ndarray, opponents: np.ndarray, reach: float) -> np.nda
 def deep_kick_target(ball: np.ndarray, opponents: np.ndarray, reach: float,
                      clear: float = DEEP_KICK_CLEAR) -> np.ndarray:
     """Where a kick reaching `reach` (m) from `ball` should aim to go deep: a point on
-    their goal line 0-4 m from its center, the nearest to the center whose path to the
+    their goal line 0-6 m from its center, the nearest to the center whose path to the
     landing passes `clear` m from every opponent (else the clearest); team frame, m."""
     best, best_key = None, (-math.inf, 0.0)
     for y in DEEP_KICK_AIMS:

@@ -137,6 +137,31 @@ def test_shot_target_needs_reach_and_aims_away_from_the_goalie():
     assert st.shot_target(np.array([13.0, 9.0]), np.zeros((0, 2)), reach=20.0) is None  # too narrow
 
 
+def _deep_landing_clearance(ball, aim, opponents, reach):
+    d = aim - ball
+    landing = ball + min(reach, np.hypot(*d)) * d / np.hypot(*d)
+    ab = landing - ball
+    t = np.clip((opponents - ball) @ ab / (ab @ ab), 0.0, 1.0)
+    return float(np.min(np.hypot(*(opponents - (ball + t[:, None] * ab)).T)))
+
+
+def test_deep_kick_target_aims_nearest_the_goal_on_a_clear_path():
+    ball, reach = np.zeros(2), 12.0
+    assert np.allclose(st.deep_kick_target(ball, np.zeros((0, 2)), reach), [fld.HALF_LENGTH, 0.0])
+    rng = np.random.default_rng(3)
+    for _ in range(50):  # against brute force over the aims
+        opp = rng.uniform([2.0, -4.0], [12.0, 4.0], (int(rng.integers(1, 6)), 2))
+        aim = st.deep_kick_target(ball, opp, reach)
+        aims = [np.array([fld.HALF_LENGTH, y]) for y in st.DEEP_KICK_AIMS]
+        gaps = [min(_deep_landing_clearance(ball, a, opp, reach), st.DEEP_KICK_CLEAR) for a in aims]
+        best = max(range(len(aims)), key=lambda k: (gaps[k], -abs(aims[k][1])))
+        assert np.allclose(aim, aims[best])
+    # an opponent straight ahead: the kick goes past it, on the first aim clear of it by 1 m
+    aim = st.deep_kick_target(ball, np.array([[3.0, 0.0]]), reach)
+    assert _deep_landing_clearance(ball, aim, np.array([[3.0, 0.0]]), reach) >= st.DEEP_KICK_CLEAR
+    assert 0.0 < abs(aim[1]) <= 6.0
+
+
 def test_goalie_stands_between_ball_and_goal_and_dives_at_shots():
     x, y, h = st.goalie_position(np.array([-10.0, 4.0]))
     assert x == pytest.approx(st.GOALIE_LINE)

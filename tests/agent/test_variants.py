@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from agent import strategy as st
-from agent.teamconfig import PAPER_TABLE2, VARIANTS, UnknownVariant, variant, variant_name
+from agent.teamconfig import PAPER_TABLE2, VARIANTS, TeamConfig, UnknownVariant, variant, variant_name
 from cli import teams
 from formations.delaunay import Formation
 from formations.variants import MAKERS
@@ -240,3 +240,8 @@ def test_file_types_limit_the_walk_and_kick_files_to_those_types():
     assert (Player("L", 2, 1, config=only0).body.motion.walk.sets
             == Player("L", 2, 1, config=slow).body.motion.walk.sets
             != Player("L", 2, 1).body.motion.walk.sets)
+
+
+def test_an_unknown_kickoff_is_refused():
+    with pytest.raises(ValueError, match="kickoff 'long'"):
+        TeamConfig(kickoff="long")
