@@ -270,8 +270,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # villa since December 6, 2026 (night); the team before is NoFinish.
     "Finish": TeamConfig(dribble_finish=True),
     "NoFinish": TeamConfig(dribble_finish=False),
-    # The kickoff a long kick deep toward their goal (TeamConfig.kickoff "deep"): territory
-    # +1.42 +- 0.46 m, goals +0.05 +- 0.10 over 40 against villa (benchmarks/results/deepkickoff-vs-villa/).
+    # The kickoff a long kick deep toward their goal (TeamConfig.kickoff "deep"): territory +1.50 +-
+    # 0.35 m, goals +0.04 +- 0.07 over 80 against villa (benchmarks/results/deepkickoff-vs-villa/).
     "DeepKickoff": TeamConfig(kickoff="deep"),
 }
 
