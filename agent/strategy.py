@@ -392,7 +392,8 @@ def deep_kick_target(ball: np.ndarray, opponents: np.ndarray, reach: float,
     for y in DEEP_KICK_AIMS:
         aim = np.array([fld.HALF_LENGTH, y])
         d = aim - ball
-        landing = ball + min(reach, float(np.hypot(*d))) * d / max(float(np.hypot(*d)), 1e-9)
+        n = float(np.hypot(*d))
+        landing = ball + min(reach, n) * d / max(n, 1e-9)
         key = (min(_clearance(ball, landing, opponents), clear), -abs(y))
         if key > best_key:
             best, best_key = aim, key
