@@ -390,7 +390,7 @@ class Player:
         on the center spot, in our half; the on-ball role behind the ball at ours."""
         if self.unum == st.GOALIE:
             return st.GOALIE_LINE, 0.0, 0.0
-        taker = st.KICKOFF_TAKER_BACK if self.config.kickoff == "deep" else st.KICKOFF_TAKER
+        taker = st.KICKOFF_TAKER if self.config.kickoff == "pass" else st.KICKOFF_TAKER_BACK
         x, y = st.kickoff_positions(self.formation, our_kickoff, taker)[(self.unum - 2) % len(st.FIELD_ROLES)]
         return float(x), float(y), math.atan2(-y, -x)  # facing the center spot
 

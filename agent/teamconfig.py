@@ -18,7 +18,7 @@ FAST_KICK_FILES = ("kick_fast_type{type}.params",)
 # and middle roles at the kickoff), type 2 at the backs and type 3 on the wings (MacAlpine's
 # dissertation 4.2.4: UT Austin Villa played seven of its best type).
 MOSTLY_TYPE_0 = (0, 0, 0, 0, 0, 0, 0, 2, 2, 3, 3)
-KICKOFFS = ("pass", "deep")  # TeamConfig.kickoff
+KICKOFFS = ("pass", "walkup", "deep")  # TeamConfig.kickoff
 
 
 @dataclass(frozen=True)
@@ -67,7 +67,8 @@ class TeamConfig:
     kick_anticipation: bool = True  # run to where a teammate's kick will land
     # Our kickoff: "pass", a short pass to the side (D.2.3), meant to be kicked from where the
     # taker is beamed; in fact the approach's first step nudges the ball 1-1.5 m straight ahead
-    # (benchmarks/results/README.md, deepkickoff-vs-villa). "deep": the robot's longest kick
+    # (benchmarks/results/README.md, deepkickoff-vs-villa). "walkup": that pass from
+    # KICKOFF_TAKER_BACK, walked up to; villa:WalkupKickoff. "deep": the robot's longest kick
     # toward their goal past the opponents (strategy.deep_kick_target) from KICKOFF_TAKER_BACK
     # (dissertation 4.2.2: UT Austin Villa's kickoff when it did not try to score); villa:DeepKickoff.
     kickoff: str = "pass"
@@ -273,6 +274,7 @@ VARIANTS: dict[str, TeamConfig] = {
     # The kickoff a long kick deep toward their goal (TeamConfig.kickoff "deep"): territory +1.50 +-
     # 0.35 m, goals +0.04 +- 0.07 over 80 against villa (benchmarks/results/deepkickoff-vs-villa/).
     "DeepKickoff": TeamConfig(kickoff="deep"),
+    "WalkupKickoff": TeamConfig(kickoff="walkup"),
 }
 
 # The paper's Table 2, column "UTAustinVilla": goal difference (variant - base) and

@@ -13,7 +13,7 @@ import pytest
 from agent import strategy as st
 from agent.player import Player
 from agent.requests import Dive, Dribble, Kick, WalkTo
-from agent.teamconfig import variant
+from agent.teamconfig import TeamConfig, variant
 from models import field as fld
 from models.rules import PlayMode
 
@@ -60,6 +60,24 @@ def test_villa_dribbles_in_play_and_kicks_its_kickoff():
     assert isinstance(Player("L", 2, 0).decide(view(2, (9.0, 0.0, 0.0), (10.0, 0.0))), Dribble)
     kickoff = view(2, (-0.3, 0.0, 0.0), (0.0, 0.0), mode=PlayMode.KICK_OFF_LEFT, ours=True)
     assert isinstance(Player("L", 2, 0).decide(kickoff), Kick)
+
+
+@pytest.mark.parametrize("kickoff", ["pass", "walkup", "deep"])
+def test_kickoff_taker_stands_where_its_kick_needs(kickoff):
+    """The pass kicked from where the taker is beamed; walkup and deep walk up from farther."""
+    config = TeamConfig(kickoff=kickoff)
+    taker = next(u for u in range(2, 12) if st.FIELD_ROLES[(u - 2) % 10] == "onBall")
+    p = Player("L", taker, 0, config=config)
+    spot = st.KICKOFF_TAKER if kickoff == "pass" else st.KICKOFF_TAKER_BACK
+    assert np.allclose(p.kickoff_position(True)[:2], spot)
+    req = p.decide(view(taker, (*spot, 0.0), (0.0, 0.0), opponents=[(1.0, 2.0)],
+                        mode=PlayMode.KICK_OFF_LEFT, ours=True))
+    assert isinstance(req, Kick)
+    if kickoff == "deep":
+        assert req.target[0] > 10.0
+    else:  # the 44 deg pass to the side away from the opponent
+        assert req.target[1] < 0 and math.isclose(math.hypot(*req.target), 3.0)
+        assert math.isclose(math.atan2(-req.target[1], req.target[0]), math.radians(44.0))
 
 
 def test_on_ball_player_kicks_when_free_and_dribbles_when_pressed():
