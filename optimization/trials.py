@@ -22,6 +22,7 @@ from agent.kicker import SKILL_GAINS
 from agent.posture import PostureAgent
 from agent.teamconfig import TeamConfig
 from agent.variants import VillaFactory
+from models import field as fld
 from models import nao
 from models.field import BALL_RADIUS
 from models.geometry import Pose2, wrap
@@ -404,3 +405,55 @@ def duel(left: TeamConfig, right: TeamConfig, robot_type: int, seed: int, ball: 
     return Duel(float(w.ball_position()[0] - b[0]),
                 {s: round(ref.possession[s] - held[s], 6) for s in "LR"}, first,
                 {s: ref.falls[s] - falls[s] for s in "LR"})
+
+
+CLEAR_DISTANCE = 2.5  # m from the own goal line: a ball this far out is cleared
+
+
+@dataclass(frozen=True)
+class Clear:
+    """A ball lying at the own goal line: how the try ended ("cleared": CLEAR_DISTANCE m out;
+    "goal": into the own goal; "out": over a line; None: none of them within the try), s after
+    play on, and the left team's falls."""
+
+    outcome: str | None
+    time: float
+    falls: int
+
+
+def clear(robot_type: int, config: TeamConfig, seed: int, ball: tuple[float, float],
+          start: tuple[float, float], attacker: tuple[float, float] | None = None,
+          seconds: float = 30.0, velocity: tuple[float, float] = (0.0, 0.0)) -> Clear:
+    """Play on with a free ball at `ball` (field frame, m) in front of the left goal, rolling
+    at `velocity` (m/s), defended by the left team's goalie (playing `config`, beamed in its
+    goal) and player 2 (`robot_type`) standing at `start` facing the ball; with `attacker`,
+    a villa player of the right team (the same type) stands there facing the ball, else the
+    right team is a posture goalie. Until the ball, once within CLEAR_DISTANCE m of the goal
+    line, is that far out again (cleared), a goal, an out, or `seconds`."""
+    right = (0, robot_type) if attacker is not None else (0,)
+    m = Match(VillaFactory(config), VillaFactory(TeamConfig()) if attacker is not None else PostureAgent,
+              Lineup((0, robot_type), right), half_time=300, seed=seed)
+    while m.referee.mode == PlayMode.BEFORE_KICK_OFF:  # the beams and the first settling
+        m.step()
+    w = m.world
+    b = np.array(ball, dtype=float)
+    place_player(m, w.player("L", 2), start[0], start[1], math.atan2(b[1] - start[1], b[0] - start[0]))
+    if attacker is not None:
+        place_player(m, w.player("R", 2), attacker[0], attacker[1],
+                     math.atan2(b[1] - attacker[1], b[0] - attacker[0]))
+    w.place_ball((float(b[0]), float(b[1])), velocity=(float(velocity[0]), float(velocity[1]), 0.0))
+    ref = m.referee
+    ref.set_play_mode(PlayMode.PLAY_ON)
+    seen, falls = len(ref.events), ref.falls["L"]
+    entered = False
+    for k in range(round(seconds / CYCLE)):
+        m.step()
+        t = round((k + 1) * CYCLE, 6)
+        ended = next((e.kind for e in ref.events[seen:] if e.kind in ("goal", "out")), None)
+        if ended is not None:
+            return Clear(ended, t, int(ref.falls["L"] - falls))
+        out = float(w.ball_position()[0]) + fld.HALF_LENGTH
+        if entered and out >= CLEAR_DISTANCE:
+            return Clear("cleared", t, int(ref.falls["L"] - falls))
+        entered = entered or out < CLEAR_DISTANCE
+    return Clear(None, seconds, int(ref.falls["L"] - falls))

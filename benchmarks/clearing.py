@@ -1,0 +1,127 @@
+"""Clearing: the team's play on a ball at its own goal line.
+
+Seeded tries (`optimization.trials.clear`, try k with robot type k mod len(`--types`)),
+villa's goalie where it was beamed and villa's player 2 (`--variant` of it, or the base
+team); with `--attacker`, a villa player of the other team too. Two spots (`--spot`):
+
+* line: the ball lies 0.2-0.6 m in front of the left goal line, within 1 m of the mouth's
+  middle; player 2 stands 1.5-3 m out and up to 1.5 m to one side, facing the ball and so
+  its own goal, as a player that ran back after the ball does; the attacker 1-2.5 m out on
+  the other side, facing the ball too;
+* roller: the ball rolls from 4-7 m out toward a point in the mouth where it would rest
+  0.1-0.8 m out (a slow pass or shot that stops short of the line); player 2 starts 1.5-2.5 m
+  to one side of it, the attacker 1.5-3 m behind it.
+
+Play on until the ball, once within 2.5 m of the goal line, is that far out again
+(cleared), a goal (into the own goal), an out, or `--seconds`. Figures: cleared, goals
+against, outs and tries still in play at the end; the median time to clear (s, over the
+tries that cleared); falls. Ground truth throughout.
+
+What it showed (type 0, seeds from 0, December 7, 2026). A goal villa conceded in a
+match (villa against villa:DeepKickoff, seed 5, 108 s): a slow kick stopped 0.4 m in
+front of the goal and lay there for 8 s while the goalie and a defender, both facing their
+own goal, walked round it to line up toward the other goal, until an attacker pushed it in.
+- line, no attacker, 20 tries: 13 cleared (median 11.0 s), 5 outs, 2 in play, 18 falls.
+- line, attacker, 100 tries: 32 cleared (median 11.9 s), **37 goals against**, 23 outs, 8
+  in play, 101 falls. Pushing the ball out to the side instead (a dribble 60 deg off the
+  field's long axis, away from the mouth's middle, the goalie too, so that nobody lines up
+  inside the goal): 32 cleared (17.2 s), 40 goals, 17 outs, 124 falls; not kept.
+- roller, attacker, 60 tries: 38 cleared (12.1 s), 3 goals against, 2 outs, 17 in play.
+  The goalie standing in the ball's path on its line instead of walking out to play it:
+  39, 4, 2, 15; not kept. The slow roller that became a goal in the match is rare here.
+
+    python -m benchmarks.clearing [--spot line|roller] [--tries 12] [--seed 0] [--variant NAME]
+                                  [--attacker] [--types 0,1,2,3,4] [--seconds 30]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+import numpy as np
+
+from agent.teamconfig import TeamConfig
+from benchmarks.args import robot_types, villa_config
+from benchmarks.machine import machine
+from models import field as fld
+from optimization.trials import Clear, clear
+
+Place = tuple[float, float]
+SPOTS = ("line", "roller")
+
+
+def _speed_for(distance: float) -> float:
+    """The speed (m/s) at which a ball rolls `distance` m before it rests (bisection)."""
+    lo, hi = 0.0, 10.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if fld.rolling_distance(mid) < distance else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def placement(spot: str, rng: np.random.Generator) -> tuple[Place, Place, Place, Place]:
+    """The ball's place and velocity, the defender's and the attacker's places (field frame,
+    m, m/s) of one try at `spot`."""
+    if spot == "line":
+        ball = (-fld.HALF_LENGTH + rng.uniform(0.2, 0.6), rng.uniform(-1.0, 1.0))
+        side = float(rng.choice((-1.0, 1.0)))
+        defender = (ball[0] + rng.uniform(1.5, 3.0), ball[1] + side * rng.uniform(0.0, 1.5))
+        attacker = (ball[0] + rng.uniform(1.0, 2.5), ball[1] - side * rng.uniform(0.5, 1.5))
+        return ball, (0.0, 0.0), defender, attacker
+    # roller: from 4-7 m out toward a point in the mouth where it would rest 0.1-0.8 m out
+    ball = (-fld.HALF_LENGTH + rng.uniform(4.0, 7.0), rng.uniform(-2.5, 2.5))
+    rest = np.array([-fld.HALF_LENGTH + rng.uniform(0.1, 0.8), rng.uniform(-0.8, 0.8)])
+    d = rest - np.array(ball)
+    dist = float(np.hypot(*d))
+    v = _speed_for(dist) * d / dist
+    side = float(rng.choice((-1.0, 1.0)))
+    defender = (ball[0] + rng.uniform(-1.0, 1.0), ball[1] + side * rng.uniform(1.5, 2.5))
+    attacker = (ball[0] + rng.uniform(1.5, 3.0), ball[1] - side * rng.uniform(0.0, 1.0))
+    return ball, (float(v[0]), float(v[1])), defender, attacker
+
+
+def clear_stats(config: TeamConfig, tries: int, types: list[int], seed: int = 0, attacker: bool = False,
+                seconds: float = 30.0, spot: str = "line") -> dict:
+    """`tries` trials at `spot`, try k from seed + k with robot type types[k mod len], and
+    their figures."""
+    rows: list[Clear] = []
+    for k in range(tries):
+        ball, velocity, start, other = placement(spot, np.random.default_rng(seed + k))
+        rows.append(clear(types[k % len(types)], config, seed + k, ball, start,
+                          other if attacker else None, seconds, velocity))
+    times = [r.time for r in rows if r.outcome == "cleared"]
+    return {
+        "spot": spot, "tries": tries, "attacker": attacker, "cleared": len(times),
+        "goals_against": sum(r.outcome == "goal" for r in rows),
+        "outs": sum(r.outcome == "out" for r in rows),
+        "in_play": sum(r.outcome is None for r in rows),
+        "clear_median_s": round(float(np.median(times)), 2) if times else None,
+        "falls": sum(r.falls for r in rows),
+        "outcomes": [r.outcome for r in rows],
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--spot", default="line", choices=SPOTS, help="line (default) or roller")
+    ap.add_argument("--tries", type=int, default=12, help="tries (default 12)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--variant", default="", help="a villa variant (default: villa itself)")
+    ap.add_argument("--attacker", action="store_true", help="a villa attacker of the other team")
+    ap.add_argument("--types", default="0,1,2,3,4", help="robot types, taken in turn (default all)")
+    ap.add_argument("--seconds", type=float, default=30.0, help="s of play a try at most (default 30)")
+    args = ap.parse_args(argv)
+    types = robot_types(ap, args.types)
+    if args.tries < 1 or args.seconds <= 0:
+        ap.error(f"need --tries >= 1 and --seconds > 0 (got {args.tries}, {args.seconds})")
+    name, config = villa_config(ap, args.variant)
+    row = clear_stats(config, args.tries, types, args.seed, args.attacker, args.seconds, args.spot)
+    print(json.dumps({"benchmark": "clearing", "team": name, **row}), flush=True)
+    print(json.dumps({"machine": machine()}), file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
