@@ -2,7 +2,7 @@
 
 Seeded tries (`optimization.trials.clear`, try k with robot type k mod len(`--types`)),
 villa's goalie where it was beamed and villa's player 2 (`--variant` of it, or the base
-team); with `--attacker`, a villa player of the other team too. Two spots (`--spot`):
+team); with `--attacker`, a villa player of the other team too. Three spots (`--spot`):
 
 * line: the ball lies 0.2-0.6 m in front of the left goal line, within 1 m of the mouth's
   middle; player 2 stands 1.5-3 m out and up to 1.5 m to one side, facing the ball and so
@@ -10,7 +10,9 @@ team); with `--attacker`, a villa player of the other team too. Two spots (`--sp
   the other side, facing the ball too;
 * roller: the ball rolls from 4-7 m out toward a point in the mouth where it would rest
   0.1-0.8 m out (a slow pass or shot that stops short of the line); player 2 starts 1.5-2.5 m
-  to one side of it, the attacker 1.5-3 m behind it.
+  to one side of it, the attacker 1.5-3 m behind it;
+* attack: the ball 2.5-4.5 m out, within 1.5 m of the mouth's middle, the attacker (always
+  there) 0.8-1.5 m behind it facing the goal, player 2 4-6 m out, 1-3 m to one side.
 
 Play on until the ball, once within 2.5 m of the goal line, is that far out again
 (cleared), a goal (into the own goal), an out, or `--seconds`. Figures: cleared, goals
@@ -29,8 +31,12 @@ own goal, walked round it to line up toward the other goal, until an attacker pu
 - roller, attacker, 60 tries: 38 cleared (12.1 s), 3 goals against, 2 outs, 17 in play.
   The goalie standing in the ball's path on its line instead of walking out to play it:
   39, 4, 2, 15; not kept. The slow roller that became a goal in the match is rare here.
+- attack, 60 tries: 13 cleared, 17 goals against, 22 outs, 8 in play, 33 falls. The goalie
+  keeping its place between the ball and the goal while an opponent is nearer the ball,
+  instead of walking out to play it (two goals of a batch's logs went past a goalie that had
+  stepped out): 12, 20, 21, 7, 43 falls; not kept.
 
-    python -m benchmarks.clearing [--spot line|roller] [--tries 12] [--seed 0] [--variant NAME]
+    python -m benchmarks.clearing [--spot line|roller|attack] [--tries 12] [--seed 0] [--variant NAME]
                                   [--attacker] [--types 0,1,2,3,4] [--seconds 30]
 """
 
@@ -49,7 +55,7 @@ from models import field as fld
 from optimization.trials import Clear, clear
 
 Place = tuple[float, float]
-SPOTS = ("line", "roller")
+SPOTS = ("line", "roller", "attack")
 
 
 def _speed_for(distance: float) -> float:
@@ -69,6 +75,11 @@ def placement(spot: str, rng: np.random.Generator) -> tuple[Place, Place, Place,
         side = float(rng.choice((-1.0, 1.0)))
         defender = (ball[0] + rng.uniform(1.5, 3.0), ball[1] + side * rng.uniform(0.0, 1.5))
         attacker = (ball[0] + rng.uniform(1.0, 2.5), ball[1] - side * rng.uniform(0.5, 1.5))
+        return ball, (0.0, 0.0), defender, attacker
+    if spot == "attack":  # an attacker dribbling at the goal, our defender far behind
+        ball = (-fld.HALF_LENGTH + rng.uniform(2.5, 4.5), rng.uniform(-1.5, 1.5))
+        attacker = (ball[0] + rng.uniform(0.8, 1.5), ball[1] + rng.uniform(-0.5, 0.5))
+        defender = (ball[0] + rng.uniform(4.0, 6.0), float(rng.choice((-1.0, 1.0))) * rng.uniform(1.0, 3.0))
         return ball, (0.0, 0.0), defender, attacker
     # roller: from 4-7 m out toward a point in the mouth where it would rest 0.1-0.8 m out
     ball = (-fld.HALF_LENGTH + rng.uniform(4.0, 7.0), rng.uniform(-2.5, 2.5))
@@ -90,10 +101,10 @@ def clear_stats(config: TeamConfig, tries: int, types: list[int], seed: int = 0,
     for k in range(tries):
         ball, velocity, start, other = placement(spot, np.random.default_rng(seed + k))
         rows.append(clear(types[k % len(types)], config, seed + k, ball, start,
-                          other if attacker else None, seconds, velocity))
+                          other if attacker or spot == "attack" else None, seconds, velocity))
     times = [r.time for r in rows if r.outcome == "cleared"]
     return {
-        "spot": spot, "tries": tries, "attacker": attacker, "cleared": len(times),
+        "spot": spot, "tries": tries, "attacker": attacker or spot == "attack", "cleared": len(times),
         "goals_against": sum(r.outcome == "goal" for r in rows),
         "outs": sum(r.outcome == "out" for r in rows),
         "in_play": sum(r.outcome is None for r in rows),
