@@ -27,7 +27,10 @@ own goal, walked round it to line up toward the other goal, until an attacker pu
 - line, attacker, 100 tries: 32 cleared (median 11.9 s), **37 goals against**, 23 outs, 8
   in play, 101 falls. Pushing the ball out to the side instead (a dribble 60 deg off the
   field's long axis, away from the mouth's middle, the goalie too, so that nobody lines up
-  inside the goal): 32 cleared (17.2 s), 40 goals, 17 outs, 124 falls; not kept.
+  inside the goal): 32 cleared (17.2 s), 40 goals, 17 outs, 124 falls; not kept. The field
+  player voted onBall leaving the ball to the goalie when it takes the goalie for the on-ball
+  player (both played it): seeds 0-59, 23 goals against villa's 22 there; without the
+  attacker (20 tries) 17 cleared (16.7 s), 0 outs, 10 falls against 13 (11.0 s), 5, 18; not kept.
 - roller, attacker, 60 tries: 38 cleared (12.1 s), 3 goals against, 2 outs, 17 in play.
   The goalie standing in the ball's path on its line instead of walking out to play it:
   39, 4, 2, 15; not kept. The slow roller that became a goal in the match is rare here.
