@@ -202,6 +202,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # itself since December 7, 2026 (afternoon); the team before, types 0-4 in turn, is InTurn.
     "MostlyType0": TeamConfig(),
     "InTurn": TeamConfig(robot_types=None),
+    # The goalie of type 4 (toes): benchmarks.clearing --spot attack, 200 tries a type.
+    "Goalie4": TeamConfig(robot_types=(4,) + MOSTLY_TYPE_0[1:]),
     # Type 0's go-to-target set learned on for a fourth stage (issue 47;
     # skills/data/walk_steady_type0.txt): on its training task runs with a fall 43 -> 17 of 64,
     # but against villa +0.05 +- 0.09 over 40 full games (7:5), territory -1.0 +- 0.4 m, falls

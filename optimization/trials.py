@@ -423,16 +423,17 @@ class Clear:
 
 def clear(robot_type: int, config: TeamConfig, seed: int, ball: tuple[float, float],
           start: tuple[float, float], attacker: tuple[float, float] | None = None,
-          seconds: float = 30.0, velocity: tuple[float, float] = (0.0, 0.0)) -> Clear:
+          seconds: float = 30.0, velocity: tuple[float, float] = (0.0, 0.0), goalie_type: int = 0) -> Clear:
     """Play on with a free ball at `ball` (field frame, m) in front of the left goal, rolling
     at `velocity` (m/s), defended by the left team's goalie (playing `config`, beamed in its
     goal) and player 2 (`robot_type`) standing at `start` facing the ball; with `attacker`,
     a villa player of the right team (the same type) stands there facing the ball, else the
     right team is a posture goalie. Until the ball, once within CLEAR_DISTANCE m of the goal
-    line, is that far out again (cleared), a goal, an out, or `seconds`."""
+    line, is that far out again (cleared), a goal, an out, or `seconds`. The left goalie is
+    of `goalie_type`."""
     right = (0, robot_type) if attacker is not None else (0,)
     m = Match(VillaFactory(config), VillaFactory(TeamConfig()) if attacker is not None else PostureAgent,
-              Lineup((0, robot_type), right), half_time=300, seed=seed)
+              Lineup((goalie_type, robot_type), right), half_time=300, seed=seed)
     while m.referee.mode == PlayMode.BEFORE_KICK_OFF:  # the beams and the first settling
         m.step()
     w = m.world

@@ -16,7 +16,7 @@ from agent.teamconfig import PAPER_TABLE2, VARIANTS, TeamConfig, UnknownVariant,
 from cli import teams
 from formations.delaunay import Formation
 from formations.variants import MAKERS
-from models.rules import PlayMode
+from models.rules import PlayMode, robot_types_problem
 from tests.agent.test_strategy import view
 
 STOPPER = st.FIELD_ROLES.index("supporter")
@@ -245,3 +245,9 @@ def test_file_types_limit_the_walk_and_kick_files_to_those_types():
 def test_an_unknown_kickoff_is_refused():
     with pytest.raises(ValueError, match="kickoff 'long'"):
         TeamConfig(kickoff="long")
+
+
+def test_goalie4_keeps_the_league_rule_on_types():
+    types = variant("Goalie4").robot_types
+    assert types[0] == 4 and types[1:] == variant("MostlyType0").robot_types[1:]
+    assert robot_types_problem(types) is None
