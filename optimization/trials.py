@@ -1,10 +1,11 @@
 """Physics trials with ground truth: of single skills on the trainer (a goalie dive, a
 stance move (align), an IK kick, and the IK kick's backswing clearance (kinematics)),
-and of a villa player's first touch on a free ball and finish against a standing goalie
-in a match.
+and of villa players in a match: a first touch on a free ball, a finish against a standing
+goalie, a duel, and clearing a ball at the own goal line.
 
 The benchmarks (`benchmarks.dive`, `benchmarks.align`, `benchmarks.ikkick`,
-`benchmarks.firsttouch`, `benchmarks.finishing`) and the physics tests run these same
+`benchmarks.firsttouch`, `benchmarks.finishing`, `benchmarks.duel`,
+`benchmarks.clearing`) and the physics tests run these same
 trials. Frames: the field frame of the trainer's world; a kick's offsets in the robot frame
 at its start (m, rad).
 """
@@ -24,7 +25,6 @@ from agent.teamconfig import TeamConfig
 from agent.variants import VillaFactory
 from models import field as fld
 from models import nao
-from models.field import BALL_RADIUS
 from models.geometry import Pose2, wrap
 from models.messages import Action
 from models.robot import robot_mjcf
@@ -216,7 +216,7 @@ class _Scene:
     def __init__(self, robot_type: int) -> None:
         xml = robot_mjcf(robot_type).replace(
             "</worldbody>", f'<body name="ball" mocap="true"><geom name="ball" type="sphere" '
-            f'size="{BALL_RADIUS}" contype="0" conaffinity="0"/></body></worldbody>')
+            f'size="{fld.BALL_RADIUS}" contype="0" conaffinity="0"/></body></worldbody>')
         self.model = mujoco.MjModel.from_xml_string(xml)
         self.data = mujoco.MjData(self.model)
         m = self.model
@@ -245,7 +245,7 @@ def backswing_clearance(kick: IkKick, ball: tuple[float, float] | None = None) -
     kick.reset(ball)
     u = np.array([math.cos(kick.spec.direction), math.sin(kick.spec.direction)])
     back = min(kick.params.waypoints, key=lambda w: float(u @ w.pos[:2])).t
-    d.mocap_pos[0] = [kick.ball[0], kick.ball[1], BALL_RADIUS]
+    d.mocap_pos[0] = [kick.ball[0], kick.ball[1], fld.BALL_RADIUS]
     best, at = math.inf, 0.0
     for s in np.linspace(0.0, back, CLEARANCE_SAMPLES + 1):
         t = kick.params.shift_time + float(s) * kick.params.swing_time
