@@ -276,6 +276,8 @@ VARIANTS: dict[str, TeamConfig] = {
     # The kickoff a long kick deep toward their goal (TeamConfig.kickoff "deep"): territory +1.50 +-
     # 0.35 m, goals +0.04 +- 0.07 over 80 against villa (benchmarks/results/deepkickoff-vs-villa/).
     "DeepKickoff": TeamConfig(kickoff="deep"),
+    # Villa's kickoff pass kicked as designed, walked up to: goals -0.05 +- 0.11 over 40 against
+    # villa, territory +0.53 +- 0.53 m (benchmarks/results/walkupkickoff-vs-villa/).
     "WalkupKickoff": TeamConfig(kickoff="walkup"),
 }
 
