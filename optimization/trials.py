@@ -32,6 +32,7 @@ from models.rules import CYCLE, PlayMode
 from models.scene import Lineup
 from optimization.robot import new_robot
 from server.match import Match
+from server.referee import Referee
 from server.trainer import Trainer
 from skills.align import Align
 from skills.dive import Dive
@@ -292,6 +293,19 @@ def place_player(m: Match, i: int, x: float, y: float, heading: float) -> None:
     agent.body.beamed()
 
 
+def play_on_with(m: Match, ball: tuple[float, float], players: list[tuple[str, tuple[float, float]]],
+                 velocity: tuple[float, float] = (0.0, 0.0)) -> Referee:
+    """Trainer commands: each (side, place) player 2 at its place (field frame, m) facing the
+    ball, the ball at `ball` rolling at `velocity` (m/s), then play on; the referee."""
+    w = m.world
+    bx, by = float(ball[0]), float(ball[1])
+    for side, (x, y) in players:
+        place_player(m, w.player(side, 2), x, y, math.atan2(by - y, bx - x))
+    w.place_ball((bx, by), velocity=(float(velocity[0]), float(velocity[1]), 0.0))
+    m.referee.set_play_mode(PlayMode.PLAY_ON)
+    return m.referee
+
+
 @dataclass(frozen=True)
 class FirstTouch:
     """A villa player's first touch on a free ball: s after play on (None: none), the
@@ -352,12 +366,7 @@ def finish(robot_type: int, config: TeamConfig, seed: int, ball: tuple[float, fl
     m = Match(VillaFactory(config), PostureAgent, Lineup((0, robot_type), (0,)), half_time=300, seed=seed)
     for _ in range(60):  # the beams and the first settling
         m.step()
-    w = m.world
-    b = np.array(ball, dtype=float)
-    place_player(m, w.player("L", 2), start[0], start[1], math.atan2(b[1] - start[1], b[0] - start[0]))
-    w.place_ball((float(b[0]), float(b[1])))
-    ref = m.referee
-    ref.set_play_mode(PlayMode.PLAY_ON)
+    ref = play_on_with(m, ball, [("L", start)])
     seen, falls = len(ref.events), ref.falls["L"]
     for k in range(round(seconds / CYCLE)):
         m.step()
@@ -391,11 +400,7 @@ def duel(left: TeamConfig, right: TeamConfig, robot_type: int, seed: int, ball: 
         m.step()  # ... ended before any player sees the kickoff (its taker would plan it)
     w = m.world
     b = np.array(ball, dtype=float)
-    for side, (x, y) in zip("LR", starts):
-        place_player(m, w.player(side, 2), x, y, math.atan2(b[1] - y, b[0] - x))
-    w.place_ball((float(b[0]), float(b[1])))
-    ref = m.referee
-    ref.set_play_mode(PlayMode.PLAY_ON)
+    ref = play_on_with(m, ball, list(zip("LR", starts)))
     held, falls, touches = dict(ref.possession), dict(ref.falls), dict(ref.touches)
     first = None
     for _ in range(round(seconds / CYCLE)):
@@ -437,14 +442,8 @@ def clear(robot_type: int, config: TeamConfig, seed: int, ball: tuple[float, flo
     while m.referee.mode == PlayMode.BEFORE_KICK_OFF:  # the beams and the first settling
         m.step()
     w = m.world
-    b = np.array(ball, dtype=float)
-    place_player(m, w.player("L", 2), start[0], start[1], math.atan2(b[1] - start[1], b[0] - start[0]))
-    if attacker is not None:
-        place_player(m, w.player("R", 2), attacker[0], attacker[1],
-                     math.atan2(b[1] - attacker[1], b[0] - attacker[0]))
-    w.place_ball((float(b[0]), float(b[1])), velocity=(float(velocity[0]), float(velocity[1]), 0.0))
-    ref = m.referee
-    ref.set_play_mode(PlayMode.PLAY_ON)
+    players = [("L", start)] + ([("R", attacker)] if attacker is not None else [])
+    ref = play_on_with(m, ball, players, velocity)
     seen, falls = len(ref.events), ref.falls["L"]
     entered = False
     for k in range(round(seconds / CYCLE)):
