@@ -205,6 +205,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # The goalie of type 4 (toes), which concedes less to a dribble at the goal (benchmarks.clearing
     # --spot attack: 23 against 32% of 260 paired tries); a 4 vs 4 screen +0.03 +- 0.05 over 120.
     "Goalie4": TeamConfig(robot_types=(4,) + MOSTLY_TYPE_0[1:]),
+    # TurnRamp, DeepKickoff and Goalie4 together: each tied villa in goals while gaining ground,
+    # fewer falls or fewer goals against in its benchmark ("Positioning to Win"'s PositiveCombo
+    # idea: small gains that one batch cannot see may add up to one it can).
+    "GroundCombo": TeamConfig(turn_ramp=2.0, kickoff="deep", robot_types=(4,) + MOSTLY_TYPE_0[1:]),
     # Type 0's go-to-target set learned on for a fourth stage (issue 47;
     # skills/data/walk_steady_type0.txt): on its training task runs with a fall 43 -> 17 of 64,
     # but against villa +0.05 +- 0.09 over 40 full games (7:5), territory -1.0 +- 0.4 m, falls

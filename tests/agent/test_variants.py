@@ -6,13 +6,14 @@ from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from agent import strategy as st
-from agent.teamconfig import PAPER_TABLE2, VARIANTS, TeamConfig, UnknownVariant, variant, variant_name
+from agent.teamconfig import PAPER_TABLE2, VARIANTS, VILLA, TeamConfig, UnknownVariant, variant, variant_name
 from cli import teams
 from formations.delaunay import Formation
 from formations.variants import MAKERS
@@ -251,3 +252,12 @@ def test_goalie4_keeps_the_league_rule_on_types():
     types = variant("Goalie4").robot_types
     assert types[0] == 4 and types[1:] == variant("MostlyType0").robot_types[1:]
     assert robot_types_problem(types) is None
+
+
+def test_groundcombo_is_its_three_parts_together():
+    parts = {name: variant(name) for name in ("TurnRamp", "DeepKickoff", "Goalie4")}
+    combo = variant("GroundCombo")
+    assert combo.turn_ramp == parts["TurnRamp"].turn_ramp > 0
+    assert combo.kickoff == parts["DeepKickoff"].kickoff == "deep"
+    assert combo.robot_types == parts["Goalie4"].robot_types
+    assert replace(combo, turn_ramp=0.0, kickoff="pass", robot_types=VILLA.robot_types) == VILLA
