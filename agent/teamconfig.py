@@ -18,6 +18,7 @@ FAST_KICK_FILES = ("kick_fast_type{type}.params",)
 # and middle roles at the kickoff), type 2 at the backs and type 3 on the wings (MacAlpine's
 # dissertation 4.2.4: UT Austin Villa played seven of its best type).
 MOSTLY_TYPE_0 = (0, 0, 0, 0, 0, 0, 0, 2, 2, 3, 3)
+GOALIE_4 = (4,) + MOSTLY_TYPE_0[1:]  # the same with a goalie of type 4 (villa:Goalie4)
 KICKOFFS = ("pass", "walkup", "deep")  # TeamConfig.kickoff
 
 
@@ -204,13 +205,13 @@ VARIANTS: dict[str, TeamConfig] = {
     "InTurn": TeamConfig(robot_types=None),
     # The goalie of type 4 (toes), which concedes less to a dribble at the goal (benchmarks.clearing
     # --spot attack: 23 against 32% of 260 paired tries); a 4 vs 4 screen +0.03 +- 0.05 over 120.
-    "Goalie4": TeamConfig(robot_types=(4,) + MOSTLY_TYPE_0[1:]),
+    "Goalie4": TeamConfig(robot_types=GOALIE_4),
     # TurnRamp, DeepKickoff and Goalie4 together: each tied villa in goals while gaining ground,
     # fewer falls or fewer goals against in its benchmark ("Positioning to Win"'s PositiveCombo
     # idea: small gains that one batch cannot see may add up to one it can). Against villa +0.08
     # +- 0.07 over 40 full games (5:2), territory +1.3 +- 0.5 m, falls 39.6 against 44.7 a game
     # (benchmarks/results/groundcombo-vs-villa/).
-    "GroundCombo": TeamConfig(turn_ramp=2.0, kickoff="deep", robot_types=(4,) + MOSTLY_TYPE_0[1:]),
+    "GroundCombo": TeamConfig(turn_ramp=2.0, kickoff="deep", robot_types=GOALIE_4),
     # Type 0's go-to-target set learned on for a fourth stage (issue 47;
     # skills/data/walk_steady_type0.txt): on its training task runs with a fall 43 -> 17 of 64,
     # but against villa +0.05 +- 0.09 over 40 full games (7:5), territory -1.0 +- 0.4 m, falls

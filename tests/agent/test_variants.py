@@ -260,4 +260,5 @@ def test_groundcombo_is_its_three_parts_together():
     assert combo.turn_ramp == parts["TurnRamp"].turn_ramp > 0
     assert combo.kickoff == parts["DeepKickoff"].kickoff == "deep"
     assert combo.robot_types == parts["Goalie4"].robot_types
-    assert replace(combo, turn_ramp=0.0, kickoff="pass", robot_types=VILLA.robot_types) == VILLA
+    undone = replace(combo, turn_ramp=VILLA.turn_ramp, kickoff=VILLA.kickoff, robot_types=VILLA.robot_types)
+    assert undone == VILLA
