@@ -70,14 +70,18 @@ class Body:
     dribble_hold: (lead m, brake m, step gain a cycle) for a push that keeps the ball near:
     walk toward `lead` m past the ball slowing within `brake` m of that point, with the
     dribble set's step sizes following the request at `gain` a cycle (None: DRIBBLE_LEAD,
-    DRIBBLE_BRAKE and the set's own gain)."""
+    DRIBBLE_BRAKE and the set's own gain); ball_focus: the head stays on the ball within this
+    (m) while a dribble or kick is asked for (elsewhere within the head's own 1 m); goalie_head:
+    the head always on the ball, as the dissertation's goalie (8.2.1)."""
 
     def __init__(self, robot_type: int, kick_box: float = 1.0, sprint_within: float | None = None,
                  walk_sets: Mapping[str, WalkParams] | None = None, kick_params: Sequence[Path] = (),
                  dribble_set: str = "go_to_target", funnel: bool = False,
                  dribble_hold: tuple[float, float, float] | None = None, turn_ramp: float = 0.0,
-                 sprint_from: float = 0.0) -> None:
+                 sprint_from: float = 0.0, ball_focus: float | None = None,
+                 goalie_head: bool = False) -> None:
         self.robot_type = robot_type
+        self.ball_focus = ball_focus
         if turn_ramp < 0.0:
             raise ValueError(f"turn_ramp {turn_ramp}: must be >= 0 (turn input a second; 0: off)")
         self.turn_ramp = turn_ramp
@@ -106,7 +110,8 @@ class Body:
             sets[HOLD_SET] = replace(sets[dribble_set], pid_step_size_x=gain, pid_step_size_y=gain)
             self._push = (HOLD_SET, lead, brake)
         self.tilt = TiltEstimator()
-        self.head = HeadController()
+        self.head = HeadController(goalie=goalie_head)
+        self._ball_request = False  # the request this cycle is a dribble or a kick
         self.kicking = False  # the kicker has the body
         self.dive: DiveSkill | None = None
         self.odometry = (0.0, 0.0, 0.0)  # the walk's (dx, dy, dtheta) in the last cycle (torso frame)
@@ -138,6 +143,7 @@ class Body:
     def execute(self, request: SkillRequest, percept: Percept, world: WorldModel) -> np.ndarray:
         """Joint velocities (rad/s, league order) for this cycle."""
         self.tilt.update(percept.gyro, percept.accel, CYCLE)
+        self._ball_request = isinstance(request, (Dribble, Kick))
         before = self.motion.last
         v = self._execute(request, percept, world)
         after = self.motion.last
@@ -269,7 +275,8 @@ class Body:
         """`v` with the head's velocities: toward the ball, or scanning for it."""
         rel = world.ball_relative() if world.ball.valid else None
         bearing, dist = rel if rel is not None else (None, None)
-        v[0:2] = self.head.velocities(percept.time, percept.joints, bearing, dist)
+        focus = self.ball_focus if self._ball_request else None
+        v[0:2] = self.head.velocities(percept.time, percept.joints, bearing, dist, focus)
         return v
 
     def _walk_to(self, percept: Percept, world: WorldModel, tx: float, ty: float,

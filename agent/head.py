@@ -54,20 +54,23 @@ class HeadController:
         self.gain = gain  # 1/s, velocity per rad of error
         self.focusing = False
 
-    def target(self, t: float, ball_bearing: float | None,
-               ball_distance: float | None) -> tuple[float, float]:
+    def target(self, t: float, ball_bearing: float | None, ball_distance: float | None,
+               focus_distance: float | None = None) -> tuple[float, float]:
         """(pan, tilt) targets (rad) at time t (s) given the ball's bearing (rad, torso
-        frame) and ground distance (m), or None when the ball is unknown."""
+        frame) and ground distance (m), or None when the ball is unknown; focusing on the
+        ball within `focus_distance` (m; None: the controller's own) this cycle."""
+        near = self.focus_distance if focus_distance is None else focus_distance
         self.focusing = ball_bearing is not None and ball_distance is not None and (
-            self.goalie or ball_distance <= self.focus_distance)
+            self.goalie or ball_distance <= near)
         if self.focusing:
             return focus_pan(t, ball_bearing), self.tilt
         return scan_pan(t), self.tilt
 
     def velocities(self, t: float, joints: np.ndarray, ball_bearing: float | None,
-                   ball_distance: float | None) -> np.ndarray:
-        """Joint velocities (rad/s) for hj1, hj2 from their current angles joints[0:2]."""
-        pan, tilt = self.target(t, ball_bearing, ball_distance)
+                   ball_distance: float | None, focus_distance: float | None = None) -> np.ndarray:
+        """Joint velocities (rad/s) for hj1, hj2 from their current angles joints[0:2]
+        (`target`'s arguments)."""
+        pan, tilt = self.target(t, ball_bearing, ball_distance, focus_distance)
         # Two floats clamped by hand: np.clip's values, without its cost on a 2-array.
         m, g = nao.MAX_JOINT_SPEED, self.gain
         q0, q1 = joints[0:2].tolist()

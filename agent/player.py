@@ -95,7 +95,8 @@ class Player:
                          config.sprint_within if robot_type in config.sprint_types else None,
                          _walk_sets(config.walk_files if files else (), robot_type),
                          _type_files(config.kick_files if files else (), robot_type), config.dribble_set,
-                         config.dribble_funnel, config.dribble_hold, config.turn_ramp, config.sprint_from)
+                         config.dribble_funnel, config.dribble_hold, config.turn_ramp, config.sprint_from,
+                         config.ball_focus, config.goalie_head and unum == st.GOALIE)
         self.formation = _formation(config.formation)
         self.votes = VoteWindow(TEAM_SIZE)
         self.vote: tuple[int, ...] | None = None  # this player's own role mapping

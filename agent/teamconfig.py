@@ -83,6 +83,10 @@ class TeamConfig:
     sprint_within: float | None = 15.0
     sprint_types: tuple[int, ...] = (1, 2, 3, 4)  # type 0's sprint set was no faster than its go-to-target
     sprint_from: float = 0.0  # sprint once stepping forward at this fraction of go-to-target's longest step
+    # m: the player asked to dribble or kick keeps its head on the ball within this (None: within
+    # 1 m, as every field player; dissertation 8.2.1), elsewhere it scans the field.
+    ball_focus: float | None = None
+    goalie_head: bool = False  # the goalie's head always on the ball (dissertation 8.2.1)
     # Turn input per second the team's walk may grow by (agent.body.Body's turn_ramp; 0: at once).
     turn_ramp: float = 0.0
     # Walk parameter files loaded after a type's shipped ones, "{type}" standing for the robot
@@ -212,6 +216,10 @@ VARIANTS: dict[str, TeamConfig] = {
     # +- 0.07 over 40 full games (5:2), territory +1.3 +- 0.5 m, falls 39.6 against 44.7 a game
     # (benchmarks/results/groundcombo-vs-villa/).
     "GroundCombo": TeamConfig(turn_ramp=2.0, kickoff="deep", robot_types=GOALIE_4),
+    # The head on the ball within 4 m while going for it (a field player without it scans beyond
+    # 1 m and loses a ball it walks to: benchmarks.firsttouch).
+    "BallFocus": TeamConfig(ball_focus=4.0),
+    "GoalieHead": TeamConfig(goalie_head=True),  # the goalie's head always on the ball
     # Type 0's go-to-target set learned on for a fourth stage (issue 47;
     # skills/data/walk_steady_type0.txt): on its training task runs with a fall 43 -> 17 of 64,
     # but against villa +0.05 +- 0.09 over 40 full games (7:5), territory -1.0 +- 0.4 m, falls
