@@ -148,6 +148,10 @@ def test_head_scan_cycle_and_ball_focus():
     assert not h.focusing
     h.target(1.0, 0.3, 0.8)
     assert h.focusing
+    h.target(1.0, 0.3, 3.0, focus_distance=4.0)  # this cycle's reach (Body's ball_focus)
+    assert h.focusing
+    h.target(1.0, 0.3, 0.8, focus_distance=0.5)
+    assert not h.focusing
     g = HeadController(goalie=True)
     g.target(1.0, 0.3, 10.0)
     assert g.focusing
