@@ -40,6 +40,18 @@ since December 7, 2026), 32 tries a type, seed 0: median first touch 5.62, 5.31,
 5.86 -> 4.10, 4.61, 4.74, 4.73, 4.65 s; tries without a touch 0 -> 1 of 160; falls 1 -> 9;
 progress 1.64 -> 1.98 m a try on average.
 
+villa -> villa:BallFocus (the head kept on the ball within 4 m while a dribble or kick is asked
+for, `TeamConfig.ball_focus`), 32 tries a type, seed 0, December 8, 2026: median first touch
+4.10, 4.60, 4.60, 4.48, 4.41 -> 3.92, 3.88, 4.00, 4.36, 4.07 s; 90th percentile 5.54, 5.29,
+5.45, 5.98, 5.69 -> 4.95, 5.11, 5.43, 6.22, 5.34 s; tries without a touch 0 -> 2 of 160; falls
+11 -> 9; progress 2.21 -> 2.33 m. Villa's player scans the field once the ball is more than 1 m
+away (dissertation 8.2.1): its head turns 120 deg from a ball 1.1 m ahead, the ball estimate
+coasts on a velocity fitted to the first frames' noise, and the player walks after a ball 1 m
+from where it lies (`tests/agent/test_body.py::test_going_for_the_ball_the_head_stays_on_it`).
+Every field player focusing within 2.5 m (from before play on): 3.73, 3.77, 3.88, 4.17, 3.88
+s, falls 5. From 2-4 m (`--near 2 --far 4`, types 0 and 2) focusing within 1, 2.5 and 4 m:
+7.16, 7.01, 6.84 and 7.65, 7.32, 7.19 s.
+
 `--roll M/S` rolls the ball off at that speed in a random direction as play starts; the
 touch is then the referee's (the player touched the ball), not 5 cm of movement. villa,
 `--roll 1 --near 1.5 --far 3`, 16 tries (December 6, 2026): types 0 and 2 median 11.4 and
