@@ -49,6 +49,9 @@ came after the ball had lain within 1 m of the goal line, in front of the mouth,
   are the same for both types (`benchmarks.dive --types 0,4 --tries 5`). At the line with an
   attacker (seeds 0-99): a type 4 goalie 43 cleared, 28 goals against, 23 outs (type 0: 32,
   37, 23; 22 tries where only type 0 conceded, 13 where only type 4 did).
+- attack, villa:GoalieHead (the goalie's head always on the ball, as the dissertation's goalie;
+  villa's scans beyond 1 m), 60 tries (December 8, 2026): 16 cleared, 16 goals against, 20 outs,
+  8 in play, 48 falls; villa the same day 16, 17, 19, 8, 35. Not kept.
 
     python -m benchmarks.clearing [--spot line|roller|attack] [--tries 12] [--seed 0] [--variant NAME]
                                   [--attacker] [--types 0,1,2,3,4] [--goalie-type 0] [--seconds 30]
