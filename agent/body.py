@@ -81,6 +81,8 @@ class Body:
                  sprint_from: float = 0.0, ball_focus: float | None = None,
                  goalie_head: bool = False) -> None:
         self.robot_type = robot_type
+        if ball_focus is not None and ball_focus < 0.0:
+            raise ValueError(f"ball_focus {ball_focus}: must be >= 0 (m from the ball) or None")
         self.ball_focus = ball_focus
         if turn_ramp < 0.0:
             raise ValueError(f"turn_ramp {turn_ramp}: must be >= 0 (turn input a second; 0: off)")

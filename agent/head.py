@@ -3,9 +3,9 @@
 * Scanning: an 8 s cycle that moves the pan every 2 s from straight ahead to
   120 deg left, back to straight ahead, to 120 deg right and back; with the
   120 deg view cone that sweeps the whole 360 deg around the robot.
-* Ball focus (a field player within `focus_distance` of the ball, the goalie
-  always): the pan swings 30 deg to either side of the ball's bearing, so the
-  ball never leaves the view.
+* Ball focus (a field player within `focus_distance` of the ball, or the reach
+  a cycle's call names, the goalie always): the pan swings 30 deg to either
+  side of the ball's bearing, so the ball never leaves the view.
 
 The head pitch is held at `tilt` (rad, positive looks up; UT Austin Villa keeps
 the head bent down).
