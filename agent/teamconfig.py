@@ -217,7 +217,9 @@ VARIANTS: dict[str, TeamConfig] = {
     # (benchmarks/results/groundcombo-vs-villa/).
     "GroundCombo": TeamConfig(turn_ramp=2.0, kickoff="deep", robot_types=GOALIE_4),
     # The head on the ball within 4 m while going for it (a field player without it scans beyond
-    # 1 m and loses a ball it walks to: benchmarks.firsttouch).
+    # 1 m and loses a ball it walks to): first touch 4.10-4.60 -> 3.88-4.36 s (benchmarks.firsttouch),
+    # but against villa +0.03 +- 0.06 over 80 full games (15:13), territory +0.2 +- 0.4 m
+    # (benchmarks/results/ballfocus-vs-villa/).
     "BallFocus": TeamConfig(ball_focus=4.0),
     # The goalie's head always on the ball, as the dissertation's: benchmarks.clearing --spot
     # attack, 60 tries, 16 goals against villa's 17, falls 48 against 35.
