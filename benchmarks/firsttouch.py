@@ -50,7 +50,8 @@ coasts on a velocity fitted to the first frames' noise, and the player walks aft
 from where it lies (`tests/agent/test_body.py::test_going_for_the_ball_the_head_stays_on_it`).
 Every field player focusing within 2.5 m (from before play on): 3.73, 3.77, 3.88, 4.17, 3.88
 s, falls 5. From 2-4 m (`--near 2 --far 4`, types 0 and 2) focusing within 1, 2.5 and 4 m:
-7.16, 7.01, 6.84 and 7.65, 7.32, 7.19 s.
+7.16, 7.01, 6.84 and 7.65, 7.32, 7.19 s. In games villa:BallFocus against villa: +0.03 +- 0.06
+goals over 80 (benchmarks/results/ballfocus-vs-villa/); not shipped.
 
 `--roll M/S` rolls the ball off at that speed in a random direction as play starts; the
 touch is then the referee's (the player touched the ball), not 5 cm of movement. villa,
