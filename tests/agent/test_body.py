@@ -17,7 +17,7 @@ from agent.teamconfig import TeamConfig, variant
 from models.rules import PlayMode
 from models.scene import Lineup
 from optimization.dribble_walk import HOLD, dribble_run
-from optimization.trials import first_touch, place_player
+from optimization.trials import first_touch, place_player, play_on_with
 from server.match import Match
 
 
@@ -191,13 +191,10 @@ def _ball_estimate_drift(config: TeamConfig, seconds: float) -> tuple[float, flo
     for _ in range(60):
         m.step()
     w = m.world
-    i = w.player("L", 2)
     ball = np.array([2.66, 0.05])
-    place_player(m, i, 1.59, 0.21, -0.15)
-    w.place_robot(w.player("R", 1), 14.5, 9.0, math.pi)
-    w.place_ball(tuple(ball))
-    m.referee.set_play_mode(PlayMode.PLAY_ON)
-    agent, worst, touch = m.agents[i], 0.0, None
+    w.place_robot(w.player("R", 1), 14.5, 9.0, math.pi)  # their goalie out of the way
+    play_on_with(m, tuple(ball), [("L", (1.59, 0.21))])
+    agent, worst, touch = m.agents[w.player("L", 2)], 0.0, None
     for k in range(round(seconds / 0.02)):
         m.step()
         if np.hypot(*(w.ball_position()[:2] - ball)) > 0.05:
